@@ -1,0 +1,206 @@
+"""A MuJoCo simulation with tethers and hydrodynamic bodies: compile, step, read out, close.
+
+``Simulation`` compiles an ``MjSpec`` that ``add_tether`` and ``add_body_hydro`` prepared,
+registers its force providers with the process-wide passive callback
+(``mjtether.dispatch``), steps with divergence detection, and removes its providers on
+``close()`` (or at the end of a ``with`` block).
+"""
+
+from __future__ import annotations
+
+import mujoco
+import numpy as np
+
+from . import dispatch
+from .builder import TetherModel, axial_params
+from .hydro import bending_forces, element_geometry, tether_loads
+from .rigidbody import BodyHydroModel, BoundBodyHydro
+from .water import WaterColumn
+
+
+class SimulationDiverged(RuntimeError):
+    """The state became non-finite or MuJoCo reported a bad acceleration."""
+
+
+class BoundTether:
+    """A ``TetherModel`` bound to a compiled model: indices, force provider, readouts.
+
+    Readouts refer to the state of the last ``mj_forward``/``mj_step`` force computation.
+    Forces are those the tether exerts on its ends (N, world frame).
+    """
+
+    def __init__(self, tm: TetherModel, model: mujoco.MjModel, data: mujoco.MjData, water: WaterColumn):
+        self.tm = tm
+        self.spec = s = tm.spec
+        self.water = water
+        self.N = N = s.segments
+        fid = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_FLEX, tm.name)
+        self.vertadr = model.flex_vertadr[fid]
+        edgeadr = model.flex_edgeadr[fid]
+        # rest length of every element is the material length l, whatever the initial shape
+        model.flexedge_length0[edgeadr:edgeadr + N] = s.segment_length
+        self.eq_id = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_EQUALITY, tm.edge_equality)
+        self.connect_ids = {k: mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_EQUALITY, v)
+                            for k, v in tm.connects.items()}
+        bids = [mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, b) for b in tm.node_bodies]
+        self.dofs = np.concatenate([model.body_dofadr[b] + np.arange(3) for b in bids])
+        m_eff = s.mu * s.segment_length + tm.added_mass[N // 2]  # interior node, mass + armature
+        # retune the edge constraint with the diagA MuJoCo actually uses for interior edges
+        mujoco.mj_forward(model, data)
+        diag = np.median(data.efc_diagA[self._rows(data, self.eq_id)])
+        tm.axial = axial_params(s.EA, s.segment_length, m_eff, model.opt.timestep,
+                                s.axial_damping_ratio, diag_a=float(diag))
+        model.eq_solref[self.eq_id] = tm.axial.solref
+        model.eq_solimp[self.eq_id] = tm.axial.solimp
+
+    # ----------------------------------------------------------------- forces
+
+    def loads(self, data: mujoco.MjData) -> np.ndarray:
+        """Hydrodynamic (+ bending) loads on every node (N, shape (N+1, 3))."""
+        s = self.spec
+        x = data.flexvert_xpos[self.vertadr:self.vertadr + self.N + 1]
+        v = data.qvel[self.dofs].reshape(-1, 3)
+        f = tether_loads(x, v, segment_length=s.segment_length, diameter=s.diameter,
+                         cd_normal=s.cd_normal, cd_tangential=s.cd_tangential,
+                         rho_fn=self.water.rho, current_fn=self.water.velocity,
+                         gravity=self.water.gravity)
+        if s.EI > 0:
+            f += bending_forces(x, s.EI, s.segment_length)
+        return f
+
+    def apply(self, model: mujoco.MjModel, data: mujoco.MjData) -> None:
+        data.qfrc_passive[self.dofs] += self.loads(data).ravel()
+
+    # ----------------------------------------------------------------- readouts
+
+    def nodes(self, data: mujoco.MjData) -> np.ndarray:
+        """Node positions (m, world frame), shape (N+1, 3), node 0 at the ship."""
+        return data.flexvert_xpos[self.vertadr:self.vertadr + self.N + 1].copy()
+
+    @staticmethod
+    def _rows(data: mujoco.MjData, eq_id: int) -> np.ndarray:
+        return np.nonzero((data.efc_type == mujoco.mjtConstraint.mjCNSTR_EQUALITY)
+                          & (data.efc_id == eq_id))[0]
+
+    def tension(self, data: mujoco.MjData) -> np.ndarray:
+        """Axial tension of each element (N), shape (N,); negative means compression."""
+        rows = self._rows(data, self.eq_id)
+        if len(rows) != self.N:
+            raise RuntimeError("tether tension is available after mj_forward/mj_step")
+        return -data.efc_force[rows]
+
+    def stretched_length(self, data: mujoco.MjData) -> float:
+        """Sum of element lengths (m)."""
+        return float(element_geometry(self.nodes(data))[1].sum())
+
+    @property
+    def deployed_length(self) -> float:
+        """Unstretched deployed length (m)."""
+        return self.spec.length
+
+    def end_force(self, data: mujoco.MjData, which: str = "start") -> np.ndarray:
+        """Force of the tether on its ``"start"`` (ship) or ``"end"`` (robot) support (N, world):
+        the force of the ``connect`` constraint that holds the end node to the support."""
+        if which not in ("start", "end"):
+            raise ValueError(f"which must be 'start' or 'end', got {which!r}")
+        if which not in self.connect_ids:  # a free end
+            return np.zeros(3)
+        return data.efc_force[self._rows(data, self.connect_ids[which])].copy()
+
+
+class Simulation:
+    """Compile ``spec`` and simulate it with tether and body hydrodynamics in ``water``.
+
+    >>> # sim = Simulation(spec, water, tethers=[tm]); sim.step(1000); sim.close()
+    """
+
+    def __init__(self, spec: mujoco.MjSpec, water: WaterColumn, tethers=(), bodies=()):
+        if not isinstance(water, WaterColumn):
+            raise ValueError(f"water must be a WaterColumn, got {type(water).__name__}")
+        self.water = water
+        self.model = spec.compile()
+        self.data = mujoco.MjData(self.model)
+        self.tethers = {}
+        for tm in tethers:
+            if not isinstance(tm, TetherModel):
+                raise ValueError("tethers must be TetherModel objects returned by add_tether")
+            self.tethers[tm.name] = BoundTether(tm, self.model, self.data, water)
+        self.bodies = []
+        for bm in bodies:
+            if not isinstance(bm, BodyHydroModel):
+                raise ValueError("bodies must be BodyHydroModel objects returned by add_body_hydro")
+            self.bodies.append(BoundBodyHydro(bm, self.model, water))
+        self._providers = [*self.tethers.values(), *self.bodies]
+        self._closed = False
+        self._bad_acc0 = 0
+        dispatch.register(self.data, self._passive)
+        mujoco.mj_forward(self.model, self.data)
+        dispatch.raise_pending(self.data)
+
+    def _passive(self, m, d):
+        for p in self._providers:
+            p.apply(m, d)
+
+    @property
+    def time(self) -> float:
+        return float(self.data.time)
+
+    @property
+    def timestep(self) -> float:
+        return float(self.model.opt.timestep)
+
+    def tether(self, name: str = "tether") -> BoundTether:
+        return self.tethers[name]
+
+    def forward(self) -> None:
+        """Recompute forces and readouts for the current state without stepping."""
+        mujoco.mj_forward(self.model, self.data)
+        dispatch.raise_pending(self.data)
+
+    def step(self, nstep: int = 1) -> None:
+        """Advance ``nstep`` steps; raise ``SimulationDiverged`` if the state blows up."""
+        if self._closed:
+            raise RuntimeError("simulation is closed")
+        mujoco.mj_step(self.model, self.data, nstep)
+        dispatch.raise_pending(self.data)
+        self.check()
+
+    def run(self, duration: float, callback=None, every: float | None = None) -> None:
+        """Simulate ``duration`` seconds; call ``callback(sim)`` every ``every`` seconds."""
+        dt = self.timestep
+        n = int(round(duration / dt))
+        k = max(1, int(round((every or duration) / dt))) if callback else n
+        done = 0
+        while done < n:
+            m = min(k, n - done)
+            self.step(m)
+            done += m
+            if callback:
+                callback(self)
+
+    def check(self) -> None:
+        d = self.data
+        bad = d.warning[mujoco.mjtWarning.mjWARN_BADQACC].number
+        if bad > self._bad_acc0 or not (np.isfinite(d.qpos).all() and np.isfinite(d.qvel).all()):
+            self._bad_acc0 = bad
+            raise SimulationDiverged(
+                f"simulation diverged at t = {d.time:.3f} s (time step {self.timestep:g} s); "
+                "reduce the time step (see mjtether.stability.max_timestep)")
+
+    def close(self) -> None:
+        """Remove this simulation's force providers from the passive callback."""
+        if not self._closed:
+            dispatch.unregister(self.data)
+            self._closed = True
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+    def __del__(self):
+        try:
+            self.close()
+        except Exception:  # noqa: BLE001 - interpreter shutdown
+            pass

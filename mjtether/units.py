@@ -1,0 +1,18 @@
+"""Unit conversions used at the edges (configuration, command line).
+
+Everything inside mjtether is SI. Knots appear only in user-facing inputs and
+outputs and are converted here, in one place.
+"""
+
+KNOT = 0.514444
+"""One knot in metres per second (1852 m / 3600 s)."""
+
+
+def knots(value: float) -> float:
+    """Convert a speed in knots to metres per second."""
+    return value * KNOT
+
+
+def to_knots(speed: float) -> float:
+    """Convert a speed in metres per second to knots."""
+    return speed / KNOT
