@@ -52,7 +52,7 @@ from dataclasses import dataclass, field
 import mujoco
 import numpy as np
 
-from . import _checks
+from . import _checks, dispatch
 from .analytic import sagged_polyline
 from .tether import TetherSpec
 from .water import WaterColumn
@@ -193,7 +193,7 @@ def _anchor_position(spec: mujoco.MjSpec, anchor: Anchor) -> np.ndarray | None:
         return np.asarray(anchor.position, float)
     if isinstance(anchor, FreeEnd):
         return None
-    model = spec.copy().compile()
+    model = dispatch.compile_spec(spec.copy())
     data = mujoco.MjData(model)
     mujoco.mj_forward(model, data)
     if isinstance(anchor, BodyPoint):
@@ -231,13 +231,13 @@ def add_tether(
     for label, a in (("start", start), ("end", end)):
         if not isinstance(a, (FixedPoint, BodyPoint, SitePoint, FreeEnd)):
             raise ValueError(f"{label} must be FixedPoint, BodyPoint, SitePoint or FreeEnd, got {a!r}")
-    if isinstance(start, FreeEnd):
-        raise ValueError("start: the ship end (node 0) cannot be free")
     dt = _checks.positive("spec.option.timestep", spec.option.timestep, "s")
     N, L, l = tether.segments, tether.length, tether.segment_length
 
     p0 = _anchor_position(spec, start)
     p1 = _anchor_position(spec, end)
+    if nodes is None and p0 is None:
+        raise ValueError("nodes: give the initial node positions when the start end is free")
     if nodes is None:
         if p1 is None:
             nodes = p0 + np.outer(np.linspace(0.0, L, N + 1), [0.0, 0.0, -1.0])
@@ -248,7 +248,7 @@ def add_tether(
         raise ValueError(f"nodes must be a finite array of shape ({N + 1}, 3) (m)")
     if p1 is not None and np.linalg.norm(nodes[-1] - p1) > 1e-6 * max(L, 1.0):
         raise ValueError("nodes[-1] must coincide with the end anchor")
-    if np.linalg.norm(nodes[0] - p0) > 1e-6 * max(L, 1.0):
+    if p0 is not None and np.linalg.norm(nodes[0] - p0) > 1e-6 * max(L, 1.0):
         raise ValueError("nodes[0] must coincide with the start anchor")
 
     rho = (water.rho if water is not None else (lambda z: np.full(np.shape(z), 1025.0)))(nodes[:, 2])

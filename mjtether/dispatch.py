@@ -4,6 +4,7 @@ MuJoCo has a single global passive-force callback slot. Every ``MjData`` that mj
 simulates registers its providers here under the address of its ``MjData``; the installed
 callback looks them up, so two simulations in one process (a ``SyncVectorEnv``, two tests)
 never see each other's forces. ``unregister`` removes them when a simulation closes.
+mjtether owns the slot: a callback that other code installed is replaced.
 
 A Python exception inside a MuJoCo callback cannot propagate through ``mj_step``; it is
 stored here and re-raised by ``raise_pending`` right after the step.
@@ -11,6 +12,7 @@ stored here and re-raised by ``raise_pending`` right after the step.
 
 from __future__ import annotations
 
+import contextlib
 from typing import Callable
 
 import mujoco
@@ -19,14 +21,11 @@ Provider = Callable[[mujoco.MjModel, mujoco.MjData], None]
 
 _providers: dict[int, list[Provider]] = {}
 _errors: dict[int, BaseException] = {}
-_previous = None  # a callback somebody else installed before us
 
 
 def _passive(m: mujoco.MjModel, d: mujoco.MjData) -> None:
     fns = _providers.get(d._address)
     if fns is None:
-        if _previous is not None:
-            _previous(m, d)
         return
     try:
         for fn in fns:
@@ -36,11 +35,8 @@ def _passive(m: mujoco.MjModel, d: mujoco.MjData) -> None:
 
 
 def _ensure_installed() -> None:
-    global _previous
-    current = mujoco.get_mjcb_passive()
-    if current is _passive:
-        return
-    _previous = current
+    # (Re)install on every registration: cheap, and it wins back the slot if other code
+    # replaced it. The binding wraps the function anew on each get, so identity tests fail.
     mujoco.set_mjcb_passive(_passive)
 
 
@@ -51,9 +47,33 @@ def register(data: mujoco.MjData, provider: Provider) -> None:
 
 
 def unregister(data: mujoco.MjData) -> None:
-    """Remove every provider of ``data``."""
+    """Remove every provider of ``data``; free the slot when none is left."""
     _providers.pop(data._address, None)
     _errors.pop(data._address, None)
+    if not _providers:
+        mujoco.set_mjcb_passive(None)
+
+
+@contextlib.contextmanager
+def suspended():
+    """Free the slot while MuJoCo compiles a model.
+
+    Compiling runs the pipeline on an ``mjData`` that Python does not know, and the binding
+    then fails the callback ("engine error: Python exception raised"). Compile inside this
+    block (``Simulation`` and ``add_tether`` do) while other simulations are live.
+    """
+    mujoco.set_mjcb_passive(None)
+    try:
+        yield
+    finally:
+        if _providers:
+            mujoco.set_mjcb_passive(_passive)
+
+
+def compile_spec(spec: mujoco.MjSpec) -> mujoco.MjModel:
+    """``spec.compile()`` safe to call while simulations are live."""
+    with suspended():
+        return spec.compile()
 
 
 def raise_pending(data: mujoco.MjData) -> None:

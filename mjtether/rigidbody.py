@@ -80,6 +80,17 @@ def add_body_hydro(spec: mujoco.MjSpec, body: str, hydro: RigidBodyHydro) -> Bod
     return BodyHydroModel(body, hydro)
 
 
+def _make_not_simple(model: mujoco.MjModel, body_id: int) -> None:
+    """MuJoCo computes the mass matrix of "simple" bodies from values cached at compile time,
+    which ignore armature set afterwards; take the body off that fast path."""
+    model.body_simple[body_id] = 0
+    simple = model.body_simple[model.dof_bodyid] != 0
+    count = 0
+    for k in range(model.nv - 1, -1, -1):
+        count = count + 1 if simple[k] else 0
+        model.dof_simplenum[k] = count
+
+
 class BoundBodyHydro:
     """A ``BodyHydroModel`` bound to a compiled model: indices, armature, force provider."""
 
@@ -98,6 +109,7 @@ class BoundBodyHydro:
             ma = h.added_mass
             model.dof_armature[dof:dof + 3] += [0.5 * (ma[0] + ma[1])] * 2 + [ma[2]]
             model.dof_armature[dof + 3:dof + 6] += h.added_inertia
+            _make_not_simple(model, self.id)
         self._vel = np.zeros(6)
 
     def loads(self, model, data):

@@ -118,7 +118,7 @@ class Simulation:
         if not isinstance(water, WaterColumn):
             raise ValueError(f"water must be a WaterColumn, got {type(water).__name__}")
         self.water = water
-        self.model = spec.compile()
+        self.model = dispatch.compile_spec(spec)
         self.data = mujoco.MjData(self.model)
         self.tethers = {}
         for tm in tethers:
