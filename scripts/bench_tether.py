@@ -1,0 +1,84 @@
+"""Benchmark: cost per step of the tether against its number of segments.
+
+A 1000 m tether (d = 0.02 m, 1050 kg/m^3) from (0, 0, 0) to a fixed point at (600, 0, -700)
+in a 2.5 m/s exponential current (decay depth 15 m) and a linear density profile (1025 to
+980 kg/m^3 over 500 m), simulated for 60 s from rest on the still-water catenary shape.
+
+Targets (issue 2): cost(N=400) <= 4.5 cost(N=100); N=200 at least 10x faster than real time
+with a stable step. Stability is checked two ways: the drag rate lambda (see
+``mjtether.stability``) gives lambda dt < 1, and with ``--check`` the N=200 run is repeated
+at half the step: the ship-end tension after 60 s must agree within 1 %.
+
+    python scripts/bench_tether.py [--json] [--check] [--timestep 0.005]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import time
+
+import mujoco
+import numpy as np
+
+import mjtether as mt
+
+SEGMENTS = [25, 50, 100, 200, 400]
+
+
+def make(N: int, dt: float):
+    water = mt.WaterColumn(depth=1000.0, density=mt.LinearDensity(1025.0, 980.0, 500.0),
+                           current=mt.ExponentialCurrent(2.5, decay_depth=15.0))
+    tether = mt.TetherSpec(length=1000.0, segments=N, diameter=0.02, density=1050.0)
+    spec = mujoco.MjSpec()
+    spec.option.timestep = dt
+    spec.option.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST
+    tm = mt.add_tether(spec, tether, mt.FixedPoint([0, 0, 0]), mt.FixedPoint([600, 0, -700]), water=water)
+    return mt.Simulation(spec, water, [tm]), tether, water
+
+
+def run(N: int, dt: float, duration: float = 60.0):
+    sim, tether, water = make(N, dt)
+    with sim:
+        sim.step(10)  # warm up
+        n = int(round(duration / dt)) - 10
+        t0 = time.perf_counter()
+        sim.step(n)
+        wall = time.perf_counter() - t0
+        top = float(np.linalg.norm(sim.tether().end_force(sim.data, "start")))
+    us = wall / n * 1e6
+    return dict(us=us, rtf=dt / (us * 1e-6), top=top,
+                lam_dt=mt.stability.drag_rate(tether, water) * dt)
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--json", action="store_true", help="print one JSON object")
+    ap.add_argument("--check", action="store_true", help="repeat N=200 at half the step")
+    ap.add_argument("--timestep", type=float, default=0.005, help="time step (s)")
+    args = ap.parse_args(argv)
+    dt = args.timestep
+    res = {N: run(N, dt) for N in SEGMENTS}
+    out = {"N": SEGMENTS, "us_per_step": [round(res[N]["us"], 1) for N in SEGMENTS],
+           "timestep": [dt] * len(SEGMENTS), "realtime_factor": [round(res[N]["rtf"], 2) for N in SEGMENTS],
+           "ship_tension_N": [round(res[N]["top"], 2) for N in SEGMENTS],
+           "drag_rate_x_dt": round(res[200]["lam_dt"], 3),
+           "cost_ratio_400_100": round(res[400]["us"] / res[100]["us"], 2)}
+    if args.check:
+        half = run(200, dt / 2)
+        out["check_N200_half_step_tension_rel_diff"] = round(abs(half["top"] / res[200]["top"] - 1), 5)
+    if args.json:
+        print(json.dumps(out))
+        return
+    print(f"time step {dt} s; drag rate x dt = {out['drag_rate_x_dt']} (stable below 2, no overshoot below 1)")
+    print(f"{'N':>5} {'us/step':>10} {'x real time':>12} {'ship tension (N)':>17}")
+    for i, N in enumerate(SEGMENTS):
+        print(f"{N:>5} {out['us_per_step'][i]:>10.1f} {out['realtime_factor'][i]:>12.1f} {out['ship_tension_N'][i]:>17.1f}")
+    print(f"cost(400) / cost(100) = {out['cost_ratio_400_100']} (target <= 4.5); "
+          f"N=200 real-time factor {out['realtime_factor'][3]} (target >= 10)")
+    if args.check:
+        print(f"N=200 at dt/2: ship tension differs by {100 * out['check_N200_half_step_tension_rel_diff']:.3f} %")
+
+
+if __name__ == "__main__":
+    main()
