@@ -1,18 +1,18 @@
 """Add a tether to a ``mujoco.MjSpec``.
 
 Construction (measured, MuJoCo 4.0.0, one core of this machine, 1000 m tether, Newton
-solver, implicitfast, 5 ms step, steady state; ``scripts/bench_constructions.py``):
+solver, implicitfast, 5 ms step, no hydrodynamics; ``scripts/bench_constructions.py``):
 
 =============================================  =========  =========  =========
 construction                                   N = 100    N = 200    N = 400
 =============================================  =========  =========  =========
-capsule bodies, free joints, ``connect``        283 us     562 us    1125 us
-ball-joint sub-chains of 5, ``connect``         248 us     680 us     950 us
-1-D flex, node bodies with 3 slide joints       110 us     239 us     432 us
+capsule bodies, free joints, ``connect``        275 us     544 us    1082 us
+ball-joint sub-chains of 5, ``connect``         227 us     456 us     942 us
+1-D flex, node bodies with 3 slide joints       124 us     245 us     482 us
 =============================================  =========  =========  =========
 
 All three are O(N) (a single ball-joint tree is O(N^3): 2.2 ms at N = 100). We keep the
-**1-D flex**: 2.5 times cheaper than free capsules, one constraint row per element instead of
+**1-D flex**: 2.2 times cheaper than free capsules, one constraint row per element instead of
 three, a diagonal mass matrix, and it is the lumped-mass discretisation that MoorDyn and
 Hong et al. (003_25e034c98571ae2e.txt) use. Each element is a capsule of the cable's
 diameter (the flex radius) for rendering and contact; each node is a body with three world
