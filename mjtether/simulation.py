@@ -108,6 +108,11 @@ class BoundTether:
         return data.efc_force[self._rows(data, self.connect_ids[which])].copy()
 
 
+    def end_tension(self, data: mujoco.MjData, which: str = "start") -> float:
+        """Magnitude of ``end_force`` (N)."""
+        return float(np.linalg.norm(self.end_force(data, which)))
+
+
 class Simulation:
     """Compile ``spec`` and simulate it with tether and body hydrodynamics in ``water``.
 
