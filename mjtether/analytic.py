@@ -128,7 +128,6 @@ def sagged_polyline(p0, p1, length: float, n: int, sag_down: bool = True) -> np.
 
 def _folded_vertical(p0, p1, length, n):
     s = np.linspace(0.0, length, n + 1)
-    chord = float(np.linalg.norm(p1 - p0))
     # a symmetric V in the x-z plane with the right length
     half = length / 2
     dz = (p1[2] - p0[2]) / 2
@@ -140,7 +139,6 @@ def _folded_vertical(p0, p1, length, n):
             out[i] = p0 + (mid - p0) * si / half
         else:
             out[i] = mid + (p1 - mid) * (si - half) / half
-    del chord
     return out
 
 
