@@ -5,23 +5,23 @@ from __future__ import annotations
 import argparse
 import sys
 
+from . import demo
 from .units import knots
 
 
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(prog="mjtether", description="Underwater tether simulation in MuJoCo")
     sub = ap.add_subparsers(dest="command", required=True)
-    demo = sub.add_parser("demo", help="a tether hanging from the surface in a current; prints end tensions")
-    demo.add_argument("--length", type=float, default=200.0, help="tether length (m), default 200")
-    demo.add_argument("--segments", type=int, default=50, help="number of elements, default 50")
-    demo.add_argument("--current-knots", type=float, default=3.0, help="surface current (kn), default 3")
-    demo.add_argument("--duration", type=float, default=120.0, help="simulated time (s), default 120")
+    demo_cmd = sub.add_parser("demo", help="a tether hanging from the surface in a current; prints end tensions")
+    demo_cmd.add_argument("--length", type=float, default=200.0, help="tether length (m), default 200")
+    demo_cmd.add_argument("--segments", type=int, default=50, help="number of elements, default 50")
+    demo_cmd.add_argument("--current-knots", type=float, default=3.0, help="surface current (kn), default 3")
+    demo_cmd.add_argument("--duration", type=float, default=120.0, help="simulated time (s), default 120")
     args = ap.parse_args(argv)
     if args.command == "demo":
         try:
-            res = __import__("mjtether.demo", fromlist=["main"]).main(
-                duration=args.duration, length=args.length, segments=args.segments,
-                current=knots(args.current_knots))
+            res = demo.main(duration=args.duration, length=args.length, segments=args.segments,
+                            current=knots(args.current_knots))
         except ValueError as exc:
             print(f"mjtether demo: {exc}", file=sys.stderr)
             return 2
