@@ -44,6 +44,7 @@ class BoundTether:
                             for k, v in tm.connects.items()}
         bids = [mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, b) for b in tm.node_bodies]
         self.dofs = np.concatenate([model.body_dofadr[b] + np.arange(3) for b in bids])
+        self.qpos_adr = np.concatenate([model.jnt_qposadr[model.body_jntadr[b]] + np.arange(3) for b in bids])
         m_eff = s.mu * s.segment_length + tm.added_mass[N // 2]  # interior node, mass + armature
         # retune the edge constraint with the diagA MuJoCo actually uses for interior edges
         mujoco.mj_forward(model, data)
@@ -70,6 +71,20 @@ class BoundTether:
 
     def apply(self, model: mujoco.MjModel, data: mujoco.MjData) -> None:
         data.qfrc_passive[self.dofs] += self.loads(data).ravel()
+
+    def set_state(self, data: mujoco.MjData, nodes=None, velocity=None) -> None:
+        """Set node positions (m) and/or velocities (m/s), world frame, shape (N+1, 3), e.g.
+        from a ``quasistatic.steady_state``; call ``Simulation.forward()`` afterwards."""
+        for label, arr in (("nodes", nodes), ("velocity", velocity)):
+            if arr is None:
+                continue
+            a = np.asarray(arr, dtype=float)
+            if a.shape != (self.N + 1, 3) or not np.all(np.isfinite(a)):
+                raise ValueError(f"{label} must be a finite array of shape ({self.N + 1}, 3)")
+            if label == "nodes":
+                data.qpos[self.qpos_adr] = (a - self.tm.initial_nodes).ravel()
+            else:
+                data.qvel[self.dofs] = a.ravel()
 
     # ----------------------------------------------------------------- readouts
 

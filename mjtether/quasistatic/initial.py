@@ -1,0 +1,33 @@
+"""Initial states for dynamic runs: the steady state of the dynamic tether's own configuration.
+
+A dynamic tether started from ``steady_state`` nodes carries, from its first step, the
+tension that the constraint solver makes of the elements' stretch. For an elastic tether that
+is T = EA strain; an "inextensible" tether (``EA=None``) is in MuJoCo a stiff one, whose
+stiffness ``dynamic_EA`` reports, so its initial state must be stretched by that stiffness,
+not left unstretched.
+"""
+
+from __future__ import annotations
+
+from ..builder import axial_params
+from ..tether import TetherSpec
+from ..water import WaterColumn
+from .steady import SteadyState, steady_state
+
+
+def dynamic_EA(tether: TetherSpec, water: WaterColumn, timestep: float) -> float:
+    """Axial stiffness (N) of ``tether`` as the dynamic model builds it at ``timestep`` (s):
+    the tether's EA if it has one, else the stiffness the solver gives an inextensible one."""
+    rho = float(water.rho([0.0])[0])
+    l = tether.segment_length
+    m_eff = tether.mu * l + tether.ca_normal * rho * tether.area * l
+    return axial_params(tether.EA, l, m_eff, timestep, tether.axial_damping_ratio).effective_EA(l)
+
+
+def initial_state(tether: TetherSpec, water: WaterColumn, top, bottom, *, timestep: float,
+                  tow_velocity=(0.0, 0.0, 0.0), **kw) -> SteadyState:
+    """``steady_state`` between fixed ends ``top`` and ``bottom`` (m), with the stiffness the
+    dynamic model will have at ``timestep`` (s). Pass ``.nodes`` to ``add_tether(nodes=...)``
+    and ``.velocity`` to ``BoundTether.set_state``."""
+    return steady_state(tether, water, top, bottom, tow_velocity=tow_velocity,
+                        EA=dynamic_EA(tether, water, timestep), **kw)

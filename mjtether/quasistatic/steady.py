@@ -1,0 +1,343 @@
+"""A physically consistent 3-D steady state of the tether, by shooting.
+
+The same discretisation as the dynamic model (``mjtether.builder``): N elements of material
+length l = L / N between nodes 0 (ship) .. N (robot); every element carries its wet weight
+(mu - rho(z_c) A) g l and Morison drag on the relative velocity u(z_c) - v_tow at its centre
+z_c (``mjtether.hydro``), and the lumped-mass node balance is
+
+    E_{k+1} - E_k + (f_k + f_{k+1}) / 2 = 0,
+
+with E_k = T_k t_k the tension vector of element k and f_k its external load. Writing
+P_k = E_k + f_k / 2 (the force the cable below node k exerts on everything above it; P_0 is
+the force of the cable on the ship) gives the marching recursion
+
+    E_k = P_k - f_k(t_k) / 2,   t_k = E_k / |E_k|,   P_{k+1} = P_k - f_k,
+    x_{k+1} = x_k + l (1 + T_k / EA) t_k,
+
+solved for t_k by fixed-point iteration. ``steady_state`` marches from the ship with the
+unknown ship force P_0 and finds it by Newton's method (finite-difference Jacobian) so that the
+last node lands on the robot end. With the robot end on the seabed, the cable may rest on the
+bottom: marching stops where the vertical tension reaches zero (the touchdown point, which must
+lie on the seabed), and the rest of the cable lies straight on the seabed in the direction of
+the horizontal tension there, its tension falling by cb w per metre (the seabed model of
+MoorPy and of the analytic ``catenary``). Current drag on the laid part is neglected.
+
+A uniform tow velocity v_tow of the whole cable (both ends moving together, the towed steady
+state) is the same as an extra current -v_tow.
+
+Frames: world, z up, water surface z = 0, seabed z = -water.depth. SI units.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .. import _checks
+from ..hydro import wet_fraction
+from ..tether import TetherSpec
+from ..water import WaterColumn
+
+
+@dataclass(frozen=True)
+class SteadyState:
+    """A steady tether configuration.
+
+    Attributes:
+        nodes: node positions (m, world), shape (N+1, 3), node 0 at the ship (top) end.
+        tension: tension of each element (N), shape (N,).
+        top_force, bottom_force: force of the cable on the top / bottom end (N, world).
+        touchdown: unstretched arc length from the top at which the cable meets the seabed (m),
+            or ``None`` if it hangs free.
+        laid_length: unstretched length lying on the seabed (m).
+        velocity: velocity of every node (m/s, world): the tow velocity.
+        residual: distance (m) between the last node and the requested bottom end.
+    """
+
+    nodes: np.ndarray
+    tension: np.ndarray
+    top_force: np.ndarray
+    bottom_force: np.ndarray
+    touchdown: float | None
+    laid_length: float
+    velocity: np.ndarray
+    residual: float
+
+    @property
+    def tow_tension(self) -> float:
+        """Tension at the bottom (robot) end |bottom_force| (N)."""
+        return float(np.linalg.norm(self.bottom_force))
+
+    @property
+    def top_tension(self) -> float:
+        """Tension at the top (ship) end |top_force| (N)."""
+        return float(np.linalg.norm(self.top_force))
+
+
+class _Cable:
+    """Constants of the march for one tether in one water column."""
+
+    def __init__(self, tether: TetherSpec, water: WaterColumn, tow_velocity, EA):
+        self.N = tether.segments
+        self.l = tether.segment_length
+        self.L = tether.length
+        self.EA = math.inf if EA is None else float(EA)
+        self.d = tether.diameter
+        self.A = tether.area
+        self.mu = tether.mu
+        self.cdn = tether.cd_normal
+        self.cdt_pi = math.pi * tether.cd_tangential
+        self.g = water.gravity
+        self.water = water
+        self.v_tow = np.asarray(tow_velocity, dtype=float)
+
+    def loads(self, x0, t, l_s):
+        """External load (N) on elements starting at ``x0`` (K, 3) with tangents ``t`` (K, 3)
+        and stretched lengths ``l_s`` (K,)."""
+        z0 = x0[:, 2]
+        z1 = z0 + l_s * t[:, 2]
+        if z0.max() <= 0.0 and z1.max() <= 0.0:  # fully wet, the usual case
+            zc = 0.5 * (z0 + z1)
+            l_wet = self.l
+        else:
+            zc = np.minimum(0.5 * (z0 + z1), 0.0)
+            l_wet = self.l * wet_fraction(z0, z1)[0]
+        rho = self.water.rho(zc)
+        u = self.water.velocity(zc) - self.v_tow
+        ut = (u * t).sum(axis=1)
+        un = u - ut[:, None] * t
+        q = 0.5 * self.d * l_wet * rho
+        f = (q * self.cdn * np.sqrt((un * un).sum(axis=1)))[:, None] * un
+        f += (q * self.cdt_pi * np.abs(ut) * ut)[:, None] * t
+        f[:, 2] += (rho * self.A * l_wet - self.mu * self.l) * self.g
+        return f
+
+    def march(self, x0, P0, n_elem=None, stop_on_touchdown=False, iterations=2):
+        """March ``n_elem`` elements from node positions ``x0`` with forces ``P0`` (K, 3).
+
+        Returns (nodes (K, n+1, 3), tension (K, n), P (K, n+1, 3)). With
+        ``stop_on_touchdown`` the march of each shot also records the first element where the
+        vertical component of P becomes >= 0 (returned as the fourth item, -1 if never).
+        """
+        n = self.N if n_elem is None else n_elem
+        K = x0.shape[0]
+        X = np.empty((K, n + 1, 3))
+        P = np.empty((K, n + 1, 3))
+        T = np.empty((K, n))
+        X[:, 0], P[:, 0] = x0, P0
+        td = np.full(K, -1)
+        f = np.zeros((K, 3))
+        f[:, 2] = -self.mu * self.l * self.g
+        for k in range(n):
+            p = P[:, k]
+            for _ in range(iterations):
+                E = p - 0.5 * f
+                Tk = np.sqrt((E * E).sum(axis=1))
+                t = E / np.maximum(Tk, 1e-300)[:, None]
+                l_s = self.l * (1.0 + Tk / self.EA)
+                f = self.loads(X[:, k], t, l_s)
+            T[:, k] = Tk
+            X[:, k + 1] = X[:, k] + l_s[:, None] * t
+            P[:, k + 1] = p - f
+            if stop_on_touchdown:
+                new = (td < 0) & (P[:, k + 1, 2] >= 0.0)
+                td[new] = k
+        if stop_on_touchdown:
+            return X, T, P, td
+        return X, T, P
+
+
+def _lay(cable: _Cable, X, T, P, k, seabed_z, cb):
+    """Cut one march at the touchdown inside element ``k`` and lay the rest on the seabed.
+
+    Returns (nodes, tension, bottom force, touchdown arc length, laid length)."""
+    pz0, pz1 = P[k, 2], P[k + 1, 2]
+    phi = float(np.clip(-pz0 / (pz1 - pz0), 0.0, 1.0)) if pz1 != pz0 else 1.0
+    x_td = X[k] + phi * (X[k + 1] - X[k])
+    s_td = (k + phi) * cable.l
+    p_td = P[k] + phi * (P[k + 1] - P[k])
+    H = math.hypot(p_td[0], p_td[1])
+    e = np.array([p_td[0], p_td[1], 0.0]) / max(H, 1e-300)
+    LB = max(cable.L - s_td, 0.0)
+    w = (cable.mu - float(cable.water.rho(np.array([seabed_z]))[0]) * cable.A) * cable.g
+
+    def tension_at(u):  # u: unstretched distance from the touchdown along the seabed
+        return np.maximum(H - cb * max(w, 0.0) * u, 0.0)
+
+    def stretched(u):  # stretched distance from the touchdown
+        u = np.asarray(u, dtype=float)
+        if cable.EA == math.inf:
+            return u
+        if cb <= 0 or w <= 0:
+            return u * (1 + H / cable.EA)
+        u0 = min(H / (cb * w), 1e300)  # tension reaches zero here
+        uc = np.minimum(u, u0)
+        return u + (H * uc - cb * w * uc * uc / 2) / cable.EA
+
+    N = cable.N
+    s_nodes = np.arange(N + 1) * cable.l
+    nodes = X.copy()
+    on = s_nodes > s_td
+    x_lay = x_td.copy()
+    x_lay[2] = x_td[2]
+    nodes[on] = x_lay + np.outer(stretched(s_nodes[on] - s_td), e)
+    tension = T.copy()
+    s_mid = (np.arange(N) + 0.5) * cable.l
+    lay_el = s_mid > s_td
+    tension[lay_el] = tension_at(s_mid[lay_el] - s_td)
+    end = x_lay + stretched(LB) * e
+    nodes[-1] = end
+    bottom_force = -float(tension_at(LB)) * e
+    return nodes, tension, bottom_force, s_td, LB
+
+
+def steady_state(tether: TetherSpec, water: WaterColumn, top, bottom=None, *, top_force=None,
+                 bottom_force=None, tow_velocity=(0.0, 0.0, 0.0), seabed: bool = True,
+                 seabed_friction: float = 0.0, EA="tether", tol: float = 1e-7,
+                 max_iterations: int = 60, guess=None) -> SteadyState:
+    """Steady shape and tensions of ``tether`` in ``water`` (see the module docstring).
+
+    Give the ends as either
+      * ``top`` and ``bottom`` (both fixed points, m): the shooting problem; or
+      * ``top`` and ``top_force`` (force of the cable on the top end, N): one march down; or
+      * ``bottom`` and ``bottom_force`` (force of the cable on the bottom end): one march up
+        (pass ``top=None``).
+
+    Args:
+        tow_velocity: uniform velocity of the whole cable (m/s, world), e.g. a ship and a robot
+            moving together; drag acts on u(z) - tow_velocity.
+        seabed: with ``True`` and the bottom end on the seabed (within 1 mm), the cable may
+            rest on the bottom; with ``False`` the seabed is ignored.
+        seabed_friction: Coulomb coefficient cb of the laid cable (>= 0).
+        EA: axial stiffness (N); by default the tether's own (``None`` = inextensible).
+        tol: required distance of the last node from ``bottom``, relative to the length.
+        guess: optional starting force of the cable on the top end (N).
+
+    Raises ``ValueError`` on bad input or when the cable would rest on the seabed between two
+    suspended parts (mid-span touchdown is not modelled), ``RuntimeError`` if Newton fails.
+    """
+    if not isinstance(tether, TetherSpec):
+        raise ValueError(f"tether must be a TetherSpec, got {type(tether).__name__}")
+    if not isinstance(water, WaterColumn):
+        raise ValueError(f"water must be a WaterColumn, got {type(water).__name__}")
+    v_tow = _checks.vector3("steady_state.tow_velocity", tow_velocity)
+    cb = _checks.non_negative("steady_state.seabed_friction", seabed_friction)
+    _checks.positive("steady_state.tol", tol)
+    if EA == "tether":
+        EA = tether.EA
+    elif EA is not None:
+        EA = _checks.positive("steady_state.EA", EA, "N")
+    cable = _Cable(tether, water, v_tow, EA)
+    vel = np.tile(v_tow, (tether.segments + 1, 1))
+    seabed_z = water.seabed_z
+    given = [name for name, v in (("top", top), ("bottom", bottom), ("top_force", top_force),
+                                  ("bottom_force", bottom_force)) if v is not None]
+
+    if sorted(given) == ["top", "top_force"] or sorted(given) == ["bottom", "bottom_force"]:
+        upward = top is None
+        x0 = _checks.vector3("steady_state.bottom" if upward else "steady_state.top", bottom if upward else top)
+        F = _checks.vector3("steady_state.bottom_force" if upward else "steady_state.top_force",
+                            bottom_force if upward else top_force)
+        X, T, P = cable.march(x0[None], F[None])
+        X, T, P = X[0], T[0], P[0]
+        if upward:
+            X, T = X[::-1], T[::-1]
+            top_f, bot_f = -P[-1], F
+        else:
+            top_f, bot_f = F, -P[-1]
+        if seabed and X[:, 2].min() < seabed_z - 1e-3:
+            raise ValueError("steady_state: the marched cable passes below the seabed; give both ends "
+                             "(the touchdown is then solved for) or pass seabed=False")
+        return SteadyState(X, T, top_f, bot_f, None, 0.0, vel, 0.0)
+
+    if sorted(given) != ["bottom", "top"]:
+        raise ValueError("steady_state: give top and bottom, top and top_force, or bottom and bottom_force; "
+                         f"got {', '.join(given) or 'nothing'}")
+    top = _checks.vector3("steady_state.top", top)
+    bottom = _checks.vector3("steady_state.bottom", bottom)
+    for name, p in (("top", top), ("bottom", bottom)):
+        if seabed and p[2] < seabed_z - 1e-3:
+            raise ValueError(f"steady_state.{name} is below the seabed (z = {seabed_z} m), got z = {p[2]}")
+    chord = float(np.linalg.norm(bottom - top))
+    if EA is None and chord >= tether.length:
+        raise ValueError(f"steady_state: an inextensible tether of length {tether.length} m cannot span "
+                         f"{chord:.6g} m between its ends")
+    contact = bool(seabed) and abs(bottom[2] - seabed_z) <= 1e-3
+    L = tether.length
+
+    def shoot(F):
+        """Residuals (m) for top forces F (K, 3)."""
+        K = F.shape[0]
+        X, T, P, td = cable.march(np.tile(top, (K, 1)), F, stop_on_touchdown=True)
+        r = np.empty((K, 3))
+        for j in range(K):
+            if contact and td[j] >= 0:
+                nodes, *_ = _lay(cable, X[j], T[j], P[j], td[j], seabed_z, cb)
+                x_td_z = X[j, td[j], 2] + (X[j, td[j] + 1, 2] - X[j, td[j], 2]) * np.clip(
+                    -P[j, td[j], 2] / (P[j, td[j] + 1, 2] - P[j, td[j], 2]), 0, 1)
+                r[j] = nodes[-1] - bottom
+                r[j, 2] = x_td_z - seabed_z
+            else:
+                r[j] = X[j, -1] - bottom
+        return r, (X, T, P, td)
+
+    # starting guess: a catenary-like force scale along the chord, pulling down
+    w_ref = max(abs(tether.wet_weight_per_length(float(water.rho(np.array([0.5 * (top[2] + bottom[2])]))[0]),
+                                                 water.gravity)), 1e-3)
+    u_ref = float(np.max(np.linalg.norm(water.velocity(np.linspace(min(top[2], 0), min(bottom[2], 0), 8))
+                                        - v_tow, axis=1)))
+    drag_ref = 0.5 * 1025.0 * tether.cd_normal * tether.diameter * u_ref**2
+    scale = max(w_ref, drag_ref) * L
+    if guess is None:
+        d = bottom - top
+        F = 0.5 * w_ref * L * np.array([0.0, 0.0, -1.0]) + (d / max(np.linalg.norm(d), 1e-9)) * 0.5 * scale
+    else:
+        F = _checks.vector3("steady_state.guess", guess)
+    def residual_and_jacobian(F):
+        """Residual at F and its finite-difference Jacobian, from one batched march."""
+        h = 1e-6 * max(np.linalg.norm(F), scale * 1e-3)
+        rs, _ = shoot(np.vstack([F, F + h * np.eye(3)]))
+        return rs[0], (rs[1:] - rs[0]).T / h
+
+    r, J = residual_and_jacobian(F)
+    for it in range(max_iterations):
+        if np.linalg.norm(r) <= tol * L:
+            break
+        try:
+            step = -np.linalg.solve(J, r)
+        except np.linalg.LinAlgError:
+            step = -np.linalg.lstsq(J, r, rcond=None)[0]
+        lim = 0.5 * max(np.linalg.norm(F), scale)  # no step larger than half the force scale
+        if np.linalg.norm(step) > lim:
+            step *= lim / np.linalg.norm(step)
+        r_new, J_new = residual_and_jacobian(F + step)
+        if np.all(np.isfinite(r_new)) and np.linalg.norm(r_new) < np.linalg.norm(r):
+            F, r, J = F + step, r_new, J_new
+            continue
+        a = 0.5  # backtracking line search on |r|
+        while True:
+            r_new, _ = shoot((F + a * step)[None])
+            r_new = r_new[0]
+            if np.all(np.isfinite(r_new)) and np.linalg.norm(r_new) < np.linalg.norm(r) * (1 - 1e-4 * a):
+                break
+            a *= 0.5
+            if a < 1e-4:
+                raise RuntimeError(f"steady_state: Newton stalled at |residual| = {np.linalg.norm(r):.3g} m "
+                                   f"after {it} iterations")
+        F = F + a * step
+        r, J = residual_and_jacobian(F)
+    else:
+        raise RuntimeError(f"steady_state: no convergence in {max_iterations} iterations "
+                           f"(|residual| = {np.linalg.norm(r):.3g} m)")
+
+    _, (X, T, P, td) = shoot(F[None])
+    X, T, P, td = X[0], T[0], P[0], int(td[0])
+    if contact and td >= 0:
+        nodes, tension, bot_f, s_td, LB = _lay(cable, X, T, P, td, seabed_z, cb)
+        return SteadyState(nodes, tension, F, bot_f, s_td, LB, vel, float(np.linalg.norm(r)))
+    if seabed and X[:, 2].min() < seabed_z - 1e-3:
+        raise ValueError("steady_state: the cable would rest on the seabed between its two ends, which is "
+                         "not modelled; raise the bottom end onto the seabed or pass seabed=False")
+    return SteadyState(X, T, F, -P[-1], None, 0.0, vel, float(np.linalg.norm(r)))
