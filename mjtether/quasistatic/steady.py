@@ -31,7 +31,7 @@ Frames: world, z up, water surface z = 0, seabed z = -water.depth. SI units.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -39,6 +39,10 @@ from .. import _checks
 from ..hydro import wet_fraction
 from ..tether import TetherSpec
 from ..water import WaterColumn
+
+
+MIN_COARSE_SEGMENTS = 5
+"""Fewest elements of the coarse solves that start Newton's method for finer tethers."""
 
 
 @dataclass(frozen=True)
@@ -54,6 +58,8 @@ class SteadyState:
         laid_length: unstretched length lying on the seabed (m).
         velocity: velocity of every node (m/s, world): the tow velocity.
         residual: distance (m) between the last node and the requested bottom end.
+        jacobian: derivative of that miss with respect to the top force (m/N), 3x3, for
+            two-point solves; finer solves start from it.
     """
 
     nodes: np.ndarray
@@ -64,6 +70,7 @@ class SteadyState:
     laid_length: float
     velocity: np.ndarray
     residual: float
+    jacobian: np.ndarray | None = field(default=None, repr=False)
 
     @property
     def tow_tension(self) -> float:
@@ -265,46 +272,89 @@ def steady_state(tether: TetherSpec, water: WaterColumn, top, bottom=None, *, to
         raise ValueError(f"steady_state: an inextensible tether of length {tether.length} m cannot span "
                          f"{chord:.6g} m between its ends")
     contact = bool(seabed) and abs(bottom[2] - seabed_z) <= 1e-3
-    L = tether.length
-
-    def shoot(F):
-        """Residuals (m) for top forces F (K, 3)."""
-        K = F.shape[0]
-        X, T, P, td = cable.march(np.tile(top, (K, 1)), F, stop_on_touchdown=True)
-        r = np.empty((K, 3))
-        for j in range(K):
-            if contact and td[j] >= 0:
-                nodes, *_ = _lay(cable, X[j], T[j], P[j], td[j], seabed_z, cb)
-                x_td_z = X[j, td[j], 2] + (X[j, td[j] + 1, 2] - X[j, td[j], 2]) * np.clip(
-                    -P[j, td[j], 2] / (P[j, td[j] + 1, 2] - P[j, td[j], 2]), 0, 1)
-                r[j] = nodes[-1] - bottom
-                r[j, 2] = x_td_z - seabed_z
-            else:
-                r[j] = X[j, -1] - bottom
-        return r, (X, T, P, td)
-
-    # starting guess: a catenary-like force scale along the chord, pulling down
-    w_ref = max(abs(tether.wet_weight_per_length(float(water.rho(np.array([0.5 * (top[2] + bottom[2])]))[0]),
-                                                 water.gravity)), 1e-3)
-    u_ref = float(np.max(np.linalg.norm(water.velocity(np.linspace(min(top[2], 0), min(bottom[2], 0), 8))
-                                        - v_tow, axis=1)))
-    drag_ref = 0.5 * 1025.0 * tether.cd_normal * tether.diameter * u_ref**2
-    scale = max(w_ref, drag_ref) * L
-    if guess is None:
-        d = bottom - top
-        F = 0.5 * w_ref * L * np.array([0.0, 0.0, -1.0]) + (d / max(np.linalg.norm(d), 1e-9)) * 0.5 * scale
-    else:
+    problem = dict(top=top, bottom=bottom, contact=contact, seabed_z=seabed_z, cb=cb)
+    J = None
+    if guess is not None:
         F = _checks.vector3("steady_state.guess", guess)
-    def residual_and_jacobian(F):
-        """Residual at F and its finite-difference Jacobian, from one batched march."""
-        h = 1e-6 * max(np.linalg.norm(F), scale * 1e-3)
-        rs, _ = shoot(np.vstack([F, F + h * np.eye(3)]))
-        return rs[0], (rs[1:] - rs[0]).T / h
+    elif tether.segments >= 4 * MIN_COARSE_SEGMENTS:
+        # the top force converges as 1/N^2: a coarse solve gives an excellent starting force and
+        # Jacobian (a cascade, e.g. 200 -> 25 -> 5 elements)
+        coarse = replace(tether, segments=max(tether.segments // 8, MIN_COARSE_SEGMENTS))
+        sub = steady_state(coarse, water, top, bottom, tow_velocity=v_tow, seabed=seabed, seabed_friction=cb,
+                           EA=EA, tol=max(tol, 1e-5), max_iterations=max_iterations)
+        F, J = sub.top_force, sub.jacobian
+    else:
+        F = _first_guess(cable, top, bottom)
+    F, J, shot, r = _solve_top_force(cable, problem, F, J, tol, max_iterations)
+    X, T, P, td = shot
+    if contact and td >= 0:
+        nodes, tension, bot_f, s_td, LB = _lay(cable, X, T, P, td, seabed_z, cb)
+        return SteadyState(nodes, tension, F, bot_f, s_td, LB, vel, float(np.linalg.norm(r)), J)
+    if seabed and X[:, 2].min() < seabed_z - 1e-3:
+        raise ValueError("steady_state: the cable would rest on the seabed between its two ends, which is "
+                         "not modelled; raise the bottom end onto the seabed or pass seabed=False")
+    return SteadyState(X, T, F, -P[-1], None, 0.0, vel, float(np.linalg.norm(r)), J)
 
-    r, J = residual_and_jacobian(F)
+
+def _shoot(cable: _Cable, pb: dict, F: np.ndarray):
+    """Residuals (m), shape (K, 3), of the shots with top forces ``F`` (K, 3), and the marches."""
+    K = F.shape[0]
+    X, T, P, td = cable.march(np.tile(pb["top"], (K, 1)), F, stop_on_touchdown=True)
+    r = np.empty((K, 3))
+    for j in range(K):
+        k = td[j]
+        if pb["contact"] and k >= 0:
+            nodes, *_ = _lay(cable, X[j], T[j], P[j], k, pb["seabed_z"], pb["cb"])
+            phi = np.clip(-P[j, k, 2] / (P[j, k + 1, 2] - P[j, k, 2]), 0.0, 1.0)
+            r[j] = nodes[-1] - pb["bottom"]
+            r[j, 2] = X[j, k, 2] + phi * (X[j, k + 1, 2] - X[j, k, 2]) - pb["seabed_z"]  # touchdown height
+        else:
+            r[j] = X[j, -1] - pb["bottom"]
+    return r, (X, T, P, td)
+
+
+def _force_scale(cable: _Cable, top, bottom) -> float:
+    """A force (N) of the order of the tether's loads: weight or drag on its whole length."""
+    zs = np.linspace(min(top[2], 0.0), min(bottom[2], 0.0), 8)
+    rho = float(cable.water.rho(zs[4:5])[0])
+    w = abs(cable.mu - rho * cable.A) * cable.g
+    u = float(np.max(np.linalg.norm(cable.water.velocity(zs) - cable.v_tow, axis=1)))
+    return max(w, 0.5 * rho * cable.cdn * cable.d * u * u, 1e-3) * cable.L
+
+
+def _first_guess(cable: _Cable, top, bottom) -> np.ndarray:
+    """Half the weight down, plus the force scale along the chord."""
+    d = bottom - top
+    w = abs(cable.mu - 1025.0 * cable.A) * cable.g
+    return 0.5 * w * cable.L * np.array([0.0, 0.0, -1.0]) + d / max(np.linalg.norm(d), 1e-9) * 0.5 * \
+        _force_scale(cable, top, bottom)
+
+
+def _solve_top_force(cable: _Cable, pb: dict, F, J, tol: float, max_iterations: int):
+    """Newton's method on the top force with a backtracking line search. With a starting
+    Jacobian ``J`` (from a coarser solve) it first tries chord steps, which need one march each.
+    Returns (F, J, the converged march, residual)."""
+    scale = _force_scale(cable, pb["top"], pb["bottom"])
+    L = cable.L
+
+    def with_jacobian(F):
+        h = 1e-6 * max(np.linalg.norm(F), scale * 1e-3)
+        rs, (X, T, P, td) = _shoot(cable, pb, np.vstack([F, F + h * np.eye(3)]))
+        return rs[0], (rs[1:] - rs[0]).T / h, (X[0], T[0], P[0], int(td[0]))
+
+    def single(F):
+        rs, (X, T, P, td) = _shoot(cable, pb, F[None])
+        return rs[0], (X[0], T[0], P[0], int(td[0]))
+
+    if J is None:
+        r, J, shot = with_jacobian(F)
+        fresh = True
+    else:
+        r, shot = single(F)
+        fresh = False
     for it in range(max_iterations):
         if np.linalg.norm(r) <= tol * L:
-            break
+            return F, J, shot, r
         try:
             step = -np.linalg.solve(J, r)
         except np.linalg.LinAlgError:
@@ -312,14 +362,21 @@ def steady_state(tether: TetherSpec, water: WaterColumn, top, bottom=None, *, to
         lim = 0.5 * max(np.linalg.norm(F), scale)  # no step larger than half the force scale
         if np.linalg.norm(step) > lim:
             step *= lim / np.linalg.norm(step)
-        r_new, J_new = residual_and_jacobian(F + step)
-        if np.all(np.isfinite(r_new)) and np.linalg.norm(r_new) < np.linalg.norm(r):
-            F, r, J = F + step, r_new, J_new
+        if not fresh:  # chord step with the inherited Jacobian: keep it while it converges fast
+            r_new, shot_new = single(F + step)
+            if np.all(np.isfinite(r_new)) and np.linalg.norm(r_new) < 0.25 * np.linalg.norm(r):
+                F, r, shot = F + step, r_new, shot_new
+                continue
+            r, J, shot = with_jacobian(F)
+            fresh = True
             continue
-        a = 0.5  # backtracking line search on |r|
+        r_new, J_new, shot_new = with_jacobian(F + step)
+        if np.all(np.isfinite(r_new)) and np.linalg.norm(r_new) < np.linalg.norm(r):
+            F, r, J, shot = F + step, r_new, J_new, shot_new
+            continue
+        a = 0.5
         while True:
-            r_new, _ = shoot((F + a * step)[None])
-            r_new = r_new[0]
+            r_new, _ = single(F + a * step)
             if np.all(np.isfinite(r_new)) and np.linalg.norm(r_new) < np.linalg.norm(r) * (1 - 1e-4 * a):
                 break
             a *= 0.5
@@ -327,17 +384,6 @@ def steady_state(tether: TetherSpec, water: WaterColumn, top, bottom=None, *, to
                 raise RuntimeError(f"steady_state: Newton stalled at |residual| = {np.linalg.norm(r):.3g} m "
                                    f"after {it} iterations")
         F = F + a * step
-        r, J = residual_and_jacobian(F)
-    else:
-        raise RuntimeError(f"steady_state: no convergence in {max_iterations} iterations "
-                           f"(|residual| = {np.linalg.norm(r):.3g} m)")
-
-    _, (X, T, P, td) = shoot(F[None])
-    X, T, P, td = X[0], T[0], P[0], int(td[0])
-    if contact and td >= 0:
-        nodes, tension, bot_f, s_td, LB = _lay(cable, X, T, P, td, seabed_z, cb)
-        return SteadyState(nodes, tension, F, bot_f, s_td, LB, vel, float(np.linalg.norm(r)))
-    if seabed and X[:, 2].min() < seabed_z - 1e-3:
-        raise ValueError("steady_state: the cable would rest on the seabed between its two ends, which is "
-                         "not modelled; raise the bottom end onto the seabed or pass seabed=False")
-    return SteadyState(X, T, F, -P[-1], None, 0.0, vel, float(np.linalg.norm(r)))
+        r, J, shot = with_jacobian(F)
+    raise RuntimeError(f"steady_state: no convergence in {max_iterations} iterations "
+                       f"(|residual| = {np.linalg.norm(r):.3g} m)")
