@@ -9,7 +9,7 @@ from .rigidbody import RigidBodyHydro, add_body_hydro
 from .simulation import BoundTether, Simulation, SimulationDiverged
 from .tether import TetherSpec
 from .units import KNOT, knots, to_knots
-from . import dispatch, stability
+from . import dispatch, quasistatic, stability
 from .water import (
     GRAVITY,
     ConstantCurrent,
