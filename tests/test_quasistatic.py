@@ -77,6 +77,21 @@ def test_steady_state_suspended_equals_catenary():
     assert ss.touchdown is None and ss.laid_length == 0.0
 
 
+def test_one_end_and_its_force_reproduce_the_two_point_solution():
+    """Marching down from the top force, or up from the bottom force, of a solved two-point
+    problem lands on the other end: the same discrete equations solved from either side.
+    5 mm allowed on 60 m: each element's balance is solved by two fixed-point sweeps, whose
+    remainder differs with the direction of marching (2 mm seen upwards, 1e-5 of the length)."""
+    water, v = CASES["cross current"]
+    two = steady_state(TETHER, water, TOP, BOTTOM, tow_velocity=v)
+    down = steady_state(TETHER, water, TOP, top_force=two.top_force, tow_velocity=v)
+    up = steady_state(TETHER, water, None, BOTTOM, bottom_force=two.bottom_force, tow_velocity=v)
+    for ss in (down, up):
+        assert np.abs(ss.nodes - two.nodes).max() < 5e-3
+        assert np.linalg.norm(ss.top_force - two.top_force) < 1e-3 * two.top_tension
+        assert np.linalg.norm(ss.bottom_force - two.bottom_force) < 1e-3 * two.top_tension
+
+
 # ---------------------------------------------------------------- dynamic tether vs steady_state
 
 DT = 0.005

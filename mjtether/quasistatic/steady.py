@@ -188,7 +188,7 @@ def _lay(cable: _Cable, X, T, P, k, seabed_z, cb):
     nodes = X.copy()
     on = s_nodes > s_td
     x_lay = x_td.copy()
-    x_lay[2] = x_td[2]
+    x_lay[2] = seabed_z  # (x_td is on the seabed once the touchdown residual vanishes)
     nodes[on] = x_lay + np.outer(stretched(s_nodes[on] - s_td), e)
     tension = T.copy()
     s_mid = (np.arange(N) + 0.5) * cable.l
