@@ -270,11 +270,19 @@ INCONSISTENCIES = """\
 ## Why the towed steady state is so different
 
 In the towed state every element moves at v_r, while Eq. 5 gives the upper half of the cable less
-than half of it; and Morison drag on the relative velocity, ~ 1/2 rho C_dn d V^2 = 5.5 N/m at
-2 kn, is far larger than the wet weight of a 20 mm cable of density 1025 kg/m^3 in water of
-1025-980 kg/m^3 (at most 0.14 N/m). The cable streams almost horizontally behind the walker and
-the tow tension is carried by drag, not weight, so it grows roughly with L V^2 rather than
-with the depth."""
+than half of it; and Morison drag on the relative velocity, ~ 1/2 rho C_dn d V^2 = 10.9 N/m at
+2 kn across the cable, is far larger than the wet weight of a 20 mm cable of density
+1025 kg/m^3 in water of 1025-980 kg/m^3 (at most 0.14 N/m). The cable streams almost
+horizontally from the ship to the walker (1.6-2.5 km ahead of the ship in every row), the
+tension is carried by drag, not weight, and the cable even lifts the walker (by 76 N to
+1.6 kN). With the top angle held at 30 degrees a longer cable reaches the seabed with less top
+tension, so in Table 6 the towed tension falls slowly as L grows, the opposite of the paper's
+trend.
+
+The consistent variant finds deployed lengths close to the paper's (median 5 %) but tensions
+about a third lower; the printed variant finds half the length and three times the tension.
+Neither agreement nor disagreement validates the paper: both variants share Eq. 18's doubled
+drag rotation, its upward weight and Eq. 5's velocity field."""
 
 
 if __name__ == "__main__":
