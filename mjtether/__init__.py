@@ -10,6 +10,7 @@ from .simulation import BoundTether, Simulation, SimulationDiverged
 from .tether import TetherSpec
 from .units import KNOT, knots, to_knots
 from . import dispatch, quasistatic, stability
+from .winch import Winch
 from .water import (
     GRAVITY,
     ConstantCurrent,
@@ -31,7 +32,8 @@ __all__ = [
     "DensityProfile", "ExponentialCurrent", "FixedPoint", "FreeEnd", "GRAVITY", "KNOT", "LinearCurrent",
     "LinearDensity", "PowerLawCurrent", "RigidBodyHydro", "Simulation", "SimulationDiverged", "SitePoint",
     "SuspendedWeight", "TabulatedCurrent", "TabulatedDensity", "TetherModel", "TetherSpec", "WaterColumn",
-    "add_body_hydro", "add_tether", "axial_params", "catenary", "knots", "sagged_polyline", "teos10_density",
+    "Winch", "add_body_hydro", "add_tether", "axial_params", "catenary", "knots", "sagged_polyline",
+    "teos10_density",
     "to_knots",
 ]
 __version__ = "0.1.0"

@@ -80,10 +80,10 @@ def add_body_hydro(spec: mujoco.MjSpec, body: str, hydro: RigidBodyHydro) -> Bod
     return BodyHydroModel(body, hydro)
 
 
-def _make_not_simple(model: mujoco.MjModel, body_id: int) -> None:
+def make_not_simple(model: mujoco.MjModel, body_ids) -> None:
     """MuJoCo computes the mass matrix of "simple" bodies from values cached at compile time,
-    which ignore armature set afterwards; take the body off that fast path."""
-    model.body_simple[body_id] = 0
+    which ignore mass and armature set afterwards; take the bodies off that fast path."""
+    model.body_simple[np.atleast_1d(body_ids)] = 0
     simple = model.body_simple[model.dof_bodyid] != 0
     count = 0
     for k in range(model.nv - 1, -1, -1):
@@ -109,7 +109,7 @@ class BoundBodyHydro:
             ma = h.added_mass
             model.dof_armature[dof:dof + 3] += [0.5 * (ma[0] + ma[1])] * 2 + [ma[2]]
             model.dof_armature[dof + 3:dof + 6] += h.added_inertia
-            _make_not_simple(model, self.id)
+            make_not_simple(model, self.id)
         self._vel = np.zeros(6)
 
     def loads(self, model, data):

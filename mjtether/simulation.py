@@ -14,7 +14,7 @@ import numpy as np
 from . import dispatch
 from .builder import TetherModel, axial_params
 from .hydro import bending_forces, element_geometry, tether_loads
-from .rigidbody import BodyHydroModel, BoundBodyHydro
+from .rigidbody import BodyHydroModel, BoundBodyHydro, make_not_simple
 from .water import WaterColumn
 
 
@@ -53,6 +53,17 @@ class BoundTether:
                                 s.axial_damping_ratio, diag_a=float(diag))
         model.eq_solref[self.eq_id] = tm.axial.solref
         model.eq_solimp[self.eq_id] = tm.axial.solimp
+        # what set_length scales with the element length
+        self._edges = slice(edgeadr, edgeadr + N)
+        self._bids = np.array(bids)
+        self._l0 = s.segment_length
+        self._mass0 = model.body_mass[self._bids].copy()
+        self._inertia0 = model.body_inertia[self._bids].copy()
+        self._armature0 = model.dof_armature[self.dofs].copy()
+        self._m_eff0 = m_eff
+        self._diag0 = float(diag)
+        self.segment_length = s.segment_length
+        make_not_simple(model, self._bids)  # masses and armature change with the deployed length
 
     # ----------------------------------------------------------------- forces
 
@@ -61,12 +72,12 @@ class BoundTether:
         s = self.spec
         x = data.flexvert_xpos[self.vertadr:self.vertadr + self.N + 1]
         v = data.qvel[self.dofs].reshape(-1, 3)
-        f = tether_loads(x, v, segment_length=s.segment_length, diameter=s.diameter,
+        f = tether_loads(x, v, segment_length=self.segment_length, diameter=s.diameter,
                          cd_normal=s.cd_normal, cd_tangential=s.cd_tangential,
                          rho_fn=self.water.rho, current_fn=self.water.velocity,
                          gravity=self.water.gravity)
         if s.EI > 0:
-            f += bending_forces(x, s.EI, s.segment_length)
+            f += bending_forces(x, s.EI, self.segment_length)
         return f
 
     def apply(self, model: mujoco.MjModel, data: mujoco.MjData) -> None:
@@ -111,7 +122,31 @@ class BoundTether:
     @property
     def deployed_length(self) -> float:
         """Unstretched deployed length (m)."""
-        return self.spec.length
+        return self.segment_length * self.N
+
+    def set_length(self, model: mujoco.MjModel, length: float) -> None:
+        """Change the deployed (unstretched) length to ``length`` (m), as a winch does.
+
+        Every element takes the length L / N (the variable-segment-length approach of Khan et
+        al. 2023, Table 6): rest lengths, node masses, added mass and the axial constraint all
+        scale with it, so the cable's mass follows its length and its stiffness stays EA. A
+        change of a small fraction of an element per step adds no tension of its own.
+        """
+        L = float(length)
+        if not (np.isfinite(L) and L > 0):
+            raise ValueError(f"length must be a finite number > 0 m, got {length!r}")
+        l = L / self.N
+        r = l / self._l0
+        s = self.spec
+        model.flexedge_length0[self._edges] = l
+        model.body_mass[self._bids] = self._mass0 * r
+        model.body_inertia[self._bids] = self._inertia0 * r
+        model.dof_armature[self.dofs] = self._armature0 * r
+        self.tm.axial = axial_params(s.EA, l, self._m_eff0 * r, model.opt.timestep, s.axial_damping_ratio,
+                                     diag_a=self._diag0 / r)
+        model.eq_solref[self.eq_id] = self.tm.axial.solref
+        model.eq_solimp[self.eq_id] = self.tm.axial.solimp
+        self.segment_length = l
 
     def end_force(self, data: mujoco.MjData, which: str = "start") -> np.ndarray:
         """Force of the tether on its ``"start"`` (ship) or ``"end"`` (robot) support (N, world):

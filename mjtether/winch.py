@@ -1,0 +1,111 @@
+"""The ship's winch: how the deployed tether length changes during a run.
+
+A ``Winch`` is a small controller: each control step it gets the time, the ship-end tension
+and the robot's speed, and returns the payout rate (m/s, > 0 pays out, < 0 reels in); the
+deployed length integrates it and stays within [min_length, max_length]. Modes:
+
+* ``"fixed"``: no payout;
+* ``"constant"``: payout (or reel-in, if negative) at ``rate``;
+* ``"follow"``: payout at the robot's speed, V_po = v_r (Khan et al. 2023, Eqs. 30-33);
+* ``"tension"``: keep the ship-end tension inside ``band`` = (low, high) N: pay out at
+  ``max_rate`` above the band, reel in at ``max_rate`` below it, with a linear ramp over the
+  outer 10 % of the band so that the rate does not chatter;
+* ``"external"``: the rate last given to ``command`` (e.g. by a Gymnasium agent);
+* ``"free"``: a free drum paying out at (nearly) zero tension (the drum-end boundary condition
+  T = 0 of 001_b2e5865470dbf5d1.txt): payout at tension / ``drum_damping`` (N s/m), limited to
+  ``max_rate``; a cable that slackens is not reeled back.
+
+Every rate is limited to |rate| <= max_rate, and changes at most at ``max_accel`` (m/s^2): a
+real drum has inertia and a drive of finite power, and a step in payout rate would jerk the whole
+cable (with every element taking L / N, see ``BoundTether.set_length``). Units SI.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from . import _checks
+
+MODES = ("fixed", "constant", "follow", "tension", "external", "free")
+
+
+@dataclass
+class Winch:
+    """Winch parameters (see the module docstring) and its deployed length ``length`` (m)."""
+
+    length: float
+    mode: str = "fixed"
+    min_length: float = 0.0
+    max_length: float = float("inf")
+    rate: float = 0.0
+    max_rate: float = 2.0
+    max_accel: float = 0.2
+    band: tuple = (0.0, float("inf"))
+    drum_damping: float = 200.0
+
+    def __post_init__(self):
+        if self.mode not in MODES:
+            raise ValueError(f"winch.mode must be one of {', '.join(MODES)}; got {self.mode!r}")
+        _checks.positive("winch.length", self.length, "m")
+        _checks.non_negative("winch.min_length", self.min_length, "m")
+        if not self.max_length > self.min_length:
+            raise ValueError(f"winch.max_length must be > winch.min_length ({self.min_length} m), "
+                             f"got {self.max_length!r}")
+        if not self.min_length <= self.length <= self.max_length:
+            raise ValueError(f"winch.length must be in [{self.min_length}, {self.max_length}] m "
+                             f"(min_length, max_length), got {self.length!r}")
+        _checks.positive("winch.max_rate", self.max_rate, "m/s")
+        _checks.positive("winch.max_accel", self.max_accel, "m/s^2")
+        _checks.in_range("winch.rate", self.rate, -self.max_rate, self.max_rate, "m/s")
+        lo, hi = (float(b) for b in self.band)
+        if not (0.0 <= lo < hi):
+            raise ValueError(f"winch.band must be (low, high) N with 0 <= low < high, got {self.band!r}")
+        self.band = (lo, hi)
+        _checks.positive("winch.drum_damping", self.drum_damping, "N s/m")
+        self._command = 0.0
+        self.current_rate = 0.0  # m/s, the drum's payout rate now
+
+    def command(self, rate: float) -> None:
+        """Set the payout rate (m/s) of the ``"external"`` mode; clipped to +-max_rate."""
+        self._command = float(np.clip(_checks.finite("winch command", rate), -self.max_rate, self.max_rate))
+
+    def payout_rate(self, t: float, tension: float, robot_speed: float) -> float:
+        """Payout rate (m/s) for the current state, before the length limits."""
+        m = self.mode
+        if m == "fixed":
+            r = 0.0
+        elif m == "constant":
+            r = self.rate
+        elif m == "follow":
+            r = robot_speed
+        elif m == "external":
+            r = self._command
+        elif m == "free":
+            r = max(tension, 0.0) / self.drum_damping
+        else:  # tension band
+            lo, hi = self.band
+            ramp = 0.1 * (hi - lo)
+            if tension > hi - ramp:
+                r = self.max_rate * min((tension - (hi - ramp)) / ramp, 1.0)
+            elif tension < lo + ramp:
+                r = -self.max_rate * min(((lo + ramp) - tension) / ramp, 1.0)
+            else:
+                r = 0.0
+        return float(np.clip(r, -self.max_rate, self.max_rate))
+
+    def advance(self, dt: float, t: float, tension: float, robot_speed: float = 0.0) -> float:
+        """Integrate the deployed length over ``dt`` (s); returns the new length (m)."""
+        want = self.payout_rate(t, tension, robot_speed)
+        # brake in time for the length limits (on a curve a little gentler than max_accel, so the
+        # acceleration-limited rate can follow it to zero), then limit the acceleration
+        a_brake = 0.8 * self.max_accel
+        if want > 0:
+            want = min(want, np.sqrt(2.0 * a_brake * max(self.max_length - self.length, 0.0)))
+        else:
+            want = max(want, -np.sqrt(2.0 * a_brake * max(self.length - self.min_length, 0.0)))
+        step = self.max_accel * dt
+        self.current_rate = float(np.clip(want, self.current_rate - step, self.current_rate + step))
+        self.length = float(np.clip(self.length + self.current_rate * dt, self.min_length, self.max_length))
+        return self.length
