@@ -153,6 +153,27 @@ def axial_params(EA: float | None, segment_length: float, node_mass: float, time
                        omega=omega, omega_physical=omega_phys)
 
 
+# ------------------------------------------------------------------------------ seabed
+
+ROBOT_CONTACT_BIT = 1
+"""contype/conaffinity bit of robots' geoms (feet, hull) and of the seabed."""
+TETHER_CONTACT_BIT = 2
+"""contype bit of the tether; only the seabed has it in its conaffinity."""
+
+
+def add_seabed(spec: mujoco.MjSpec, water: WaterColumn, *, friction: float = 0.6, size: float = 0.0,
+               rgba=(0.45, 0.4, 0.3, 1.0), name: str = "seabed") -> mujoco.MjsGeom:
+    """A flat seabed at z = -water.depth: a plane that robots (contype bit 1) and tethers built
+    with ``seabed_friction`` (bit 2) rest on. ``size`` is the half-width drawn (0: infinite)."""
+    if not isinstance(water, WaterColumn):
+        raise ValueError(f"water must be a WaterColumn, got {type(water).__name__}")
+    _checks.non_negative("seabed.friction", friction)
+    return spec.worldbody.add_geom(
+        name=name, type=mujoco.mjtGeom.mjGEOM_PLANE, pos=[0.0, 0.0, water.seabed_z], size=[size, size, 1.0],
+        friction=[float(friction), 0.005, 0.0001], rgba=list(rgba), contype=ROBOT_CONTACT_BIT,
+        conaffinity=ROBOT_CONTACT_BIT | TETHER_CONTACT_BIT, condim=3)
+
+
 # ------------------------------------------------------------------------------ builder
 
 
@@ -217,6 +238,7 @@ def add_tether(
     nodes=None,
     name: str = "tether",
     rgba=(0.95, 0.6, 0.1, 1.0),
+    seabed_friction: float | None = None,
 ) -> TetherModel:
     """Add ``tether`` to ``spec`` between ``start`` (node 0, the ship end) and ``end``.
 
@@ -225,7 +247,12 @@ def add_tether(
         water: sets the density of the added mass (default: 1025 kg/m^3 everywhere).
         nodes: initial node positions (N+1, 3) in m; default: a catenary-shaped curve of the
             tether's length between the ends (straight down from ``start`` for a free end).
+        seabed_friction: ``None`` (default) for a tether that touches nothing; a Coulomb
+            coefficient (>= 0) to let it rest and slide on the seabed of ``add_seabed`` (and on
+            nothing else: robots' legs never snag it).
     """
+    if seabed_friction is not None:
+        _checks.non_negative("seabed_friction", seabed_friction)
     if not isinstance(tether, TetherSpec):
         raise ValueError(f"tether must be a TetherSpec, got {type(tether).__name__}")
     for label, a in (("start", start), ("end", end)):
@@ -280,8 +307,19 @@ def add_tether(
     flex.vertbody = body_names
     flex.vert = [0.0] * (3 * (N + 1))
     flex.elem = [k for i in range(N) for k in (i, i + 1)]
-    flex.contype = 0
-    flex.conaffinity = 0
+    flex.selfcollide = mujoco.mjtFlexSelf.mjFLEXSELF_NONE
+    if seabed_friction is None:  # no contact at all
+        flex.contype = 0
+        flex.conaffinity = 0
+    else:  # touches only geoms with the seabed bit in their conaffinity (see add_seabed)
+        flex.contype = TETHER_CONTACT_BIT
+        flex.conaffinity = 0
+        flex.priority = 1  # the tether's friction, not the seabed geom's, sets the contact
+        flex.condim = 3 if seabed_friction > 0 else 1  # (zero friction in a cone is degenerate)
+        flex.friction = [float(seabed_friction), 0.005, 0.0001]
+        flex.margin = 0.0
+        flex.solref = [2 * dt, 1.0]
+        flex.solimp = [0.99, 0.999, 0.001, 0.5, 2.0]
 
     axial = axial_params(tether.EA, l, m_el + added[N // 2], dt, tether.axial_damping_ratio)
     eq = spec.add_equality(name=f"{name}/stretch", type=mujoco.mjtEq.mjEQ_FLEX, name1=name)

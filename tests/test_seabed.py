@@ -1,0 +1,45 @@
+"""The tether resting on the seabed against the analytic catenary with seabed contact."""
+
+import numpy as np
+import pytest
+from conftest import new_spec
+
+import mjtether as mt
+from mjtether.builder import add_seabed
+from mjtether.quasistatic import catenary
+
+
+@pytest.mark.parametrize("friction", [0.0, 0.5])
+def test_tether_lies_on_the_seabed_like_the_catenary(friction):
+    """A 50 m chain (130 N/m submerged) from a fairlead at the surface to an anchor on a 20 m
+    deep seabed, dropped from the catenary shape of a line 40 % lighter (so it starts slack and
+    falls into place). Settled (40 s, mean of 5 s): the fairlead force is within 1 % of the
+    elastic catenary with seabed contact, and as many nodes lie on the seabed as the catenary's
+    laid length says (to one node). Friction cannot change this state (the laid part carries no
+    tension gradient after falling slack), so cb = 0 is the answer for both. The cable's axis
+    lies one radius above the seabed plane; the anchor is placed there."""
+    dt = 0.005
+    water = mt.WaterColumn(depth=20.0)
+    d = 0.05
+    tether = mt.TetherSpec(length=50.0, segments=50, diameter=d, density=7800.0, EA=1e7)
+    w = tether.wet_weight_per_length(1025.0)
+    anchor, fairlead = np.array([0.0, 0.0, -20.0 + d / 2]), np.array([40.0, 0.0, 0.0])
+    answer = catenary(anchor, fairlead, 50.0, w, EA=1e7, cb=0.0)
+    start = catenary(anchor, fairlead, 50.0, 0.6 * w).points(np.linspace(0, 50, 51))[::-1]
+    spec = new_spec(dt)
+    add_seabed(spec, water, friction=0.9)
+    tm = mt.add_tether(spec, tether, mt.FixedPoint(fairlead), mt.FixedPoint(anchor), water=water, nodes=start,
+                       seabed_friction=friction)
+    with mt.Simulation(spec, water, [tm]) as sim:
+        bt = sim.tether()
+        sim.run(40.0)
+        f = []
+        for _ in range(100):
+            sim.step(10)
+            f.append(bt.end_force(sim.data, "start"))
+        x = bt.nodes(sim.data)
+    f = np.mean(f, axis=0)
+    assert np.linalg.norm(f - answer.fairlead_force) <= 0.01 * np.linalg.norm(answer.fairlead_force)
+    on_bottom = np.sum(x[:, 2] < anchor[2] + 0.01) - 1  # elements fully on the seabed
+    assert abs(on_bottom - answer.laid_length) <= 1.0
+    assert x[:, 2].min() > -20.0  # never through the seabed
