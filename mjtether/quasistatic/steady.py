@@ -196,6 +196,9 @@ def _lay(cable: _Cable, X, T, P, k, seabed_z, cb):
     tension[lay_el] = tension_at(s_mid[lay_el] - s_td)
     end = x_lay + stretched(LB) * e
     nodes[-1] = end
+    # the node before the touchdown can sit a little below the seabed (the discrete cable crosses
+    # it inside the touchdown element); hold it on the seabed
+    nodes[:, 2] = np.maximum(nodes[:, 2], seabed_z)
     bottom_force = -float(tension_at(LB)) * e
     return nodes, tension, bottom_force, s_td, LB
 
@@ -280,9 +283,12 @@ def steady_state(tether: TetherSpec, water: WaterColumn, top, bottom=None, *, to
         # the top force converges as 1/N^2: a coarse solve gives an excellent starting force and
         # Jacobian (a cascade, e.g. 200 -> 25 -> 5 elements)
         coarse = replace(tether, segments=max(tether.segments // 8, MIN_COARSE_SEGMENTS))
-        sub = steady_state(coarse, water, top, bottom, tow_velocity=v_tow, seabed=seabed, seabed_friction=cb,
-                           EA=EA, tol=max(tol, 1e-5), max_iterations=max_iterations)
-        F, J = sub.top_force, sub.jacobian
+        try:
+            sub = steady_state(coarse, water, top, bottom, tow_velocity=v_tow, seabed=seabed, seabed_friction=cb,
+                               EA=EA, tol=max(tol, 1e-5), max_iterations=max_iterations)
+            F, J = sub.top_force, sub.jacobian
+        except RuntimeError:  # too coarse to resolve the shape: start from scratch at this N
+            F = _first_guess(cable, top, bottom)
     else:
         F = _first_guess(cable, top, bottom)
     F, J, shot, r = _solve_top_force(cable, problem, F, J, tol, max_iterations)

@@ -1,0 +1,263 @@
+"""Run a scenario: build the MuJoCo model (seabed, ship, tether, robot end), start it from the
+quasi-static steady state, step it with the ship's motion and the winch, and record.
+
+The ship is a mocap body at the surface whose site ``ship/fairlead`` holds the tether's node 0.
+Modes: ``fixed`` (dynamic positioning), ``follow`` (keeps ``offset`` from the robot, moving at
+most at ``speed``), ``waypoints`` (visits them in order at ``speed``); the fairlead may heave
+sinusoidally. A mocap body has no velocity, so the soft ``connect`` trails a moving ship by
+about 4 dt times its speed. The tether starts from the quasi-static steady state of its initial
+configuration; before t = 0 the model is held still for ``PREROLL_S`` so that the seabed
+contacts under the laid cable load up.
+
+Recorded every ``output_interval`` (``RECORD_FIELDS`` lists the columns, SI units, world frame
+unless the name says ``body``).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+
+import mujoco
+import numpy as np
+
+from . import builder, water as wm
+from .quasistatic import initial_state
+from .simulation import Simulation
+from .tether import TetherSpec
+from .winch import Winch
+
+RECORD_FIELDS = [
+    ("time", "s", "simulated time"),
+    ("ship_tension", "N", "tension at the ship (magnitude of the force on the fairlead)"),
+    ("ship_force_x", "N", "force of the tether on the ship, world x"),
+    ("ship_force_y", "N", "... world y"),
+    ("ship_force_z", "N", "... world z"),
+    ("tow_tension", "N", "tension at the robot's tow point"),
+    ("tow_force_x", "N", "force of the tether on the robot, world x"),
+    ("tow_force_y", "N", "... world y"),
+    ("tow_force_z", "N", "... world z"),
+    ("tow_force_body_x", "N", "the same force in the robot's body frame (x forward)"),
+    ("tow_force_body_y", "N", "... body y (left)"),
+    ("tow_force_body_z", "N", "... body z (up)"),
+    ("cable_moment_x", "N m", "M_c = r_c x T_c about the robot's centre of mass (Khan Eq. 38), world x"),
+    ("cable_moment_y", "N m", "... world y"),
+    ("cable_moment_z", "N m", "... world z"),
+    ("deployed_length", "m", "unstretched deployed length"),
+    ("payout_rate", "m/s", "winch payout rate (negative: reel-in)"),
+    ("ship_x", "m", "ship position x"),
+    ("ship_y", "m", "ship position y"),
+    ("robot_x", "m", "robot (tow point) position x"),
+    ("robot_y", "m", "... y"),
+    ("robot_z", "m", "... z"),
+    ("robot_yaw", "rad", "robot heading, from +x towards +y"),
+    ("robot_speed", "m/s", "robot horizontal speed"),
+    ("tether_lowest_z", "m", "height of the tether's lowest node"),
+    ("length_on_seabed", "m", "tether length lying on the seabed (nodes within one diameter of it)"),
+]
+
+
+PREROLL_S = 0.25
+"""Seconds simulated before t = 0 with the ship and winch still (see ``ScenarioRun``)."""
+
+
+class RunFailed(RuntimeError):
+    """The run stopped: divergence, or the tether's rated load was exceeded."""
+
+
+def water_from(sc: dict) -> wm.WaterColumn:
+    d, c = sc["water.density"], sc["water.current"]
+    if d["type"] == "constant":
+        density = wm.ConstantDensity(d["rho"])
+    elif d["type"] == "linear":
+        density = wm.LinearDensity(d["rho_surface"], d["rho_ref"], d["depth_ref"])
+    else:
+        density = wm.TabulatedDensity(d["depths"], d["values"])
+    t = c["type"]
+    if t == "constant":
+        current = wm.ConstantCurrent(c["speed"], c["heading"])
+    elif t == "linear":
+        current = wm.LinearCurrent(c["surface_speed"], c["bottom_speed"], c["bottom_depth"], heading=c["heading"])
+    elif t == "exponential":
+        current = wm.ExponentialCurrent(c["surface_speed"], c["decay_depth"], c["heading"])
+    elif t == "power":
+        current = wm.PowerLawCurrent(c["surface_speed"], sc["water"]["depth"], c["exponent"], c["heading"])
+    else:
+        current = wm.TabulatedCurrent(c["depths"], c["speeds"], c["headings"])
+    return wm.WaterColumn(depth=sc["water"]["depth"], density=density, current=current)
+
+
+def tether_from(sc: dict) -> TetherSpec:
+    t = sc["tether"]
+    return TetherSpec(length=t["length"], segments=t["segments"], diameter=t["diameter"],
+                      density=None if t["mass_per_length"] > 0 else t["density"],
+                      mass_per_length=t["mass_per_length"] or None, cd_normal=t["cd_normal"],
+                      cd_tangential=t["cd_tangential"], ca_normal=t["ca_normal"], EA=t["EA"] or None, EI=t["EI"])
+
+
+def winch_from(sc: dict) -> Winch:
+    w = sc["winch"]
+    return Winch(length=sc["tether"]["length"], mode=w["mode"], min_length=w["min_length"],
+                 max_length=w["max_length"], rate=w["rate"], max_rate=w["max_rate"], max_accel=w["max_accel"],
+                 band=w["band"], drum_damping=w["drum_damping"])
+
+
+@dataclass
+class Ship:
+    """Kinematics of the ship's fairlead (m, world; z = 0 plus heave)."""
+
+    mode: str
+    position: np.ndarray
+    offset: np.ndarray
+    waypoints: list
+    speed: float
+    heave_amplitude: float
+    heave_period: float
+    _wp: int = field(default=0)
+
+    @classmethod
+    def from_scenario(cls, sc: dict) -> "Ship":
+        s = sc["ship"]
+        return cls(s["mode"], np.array([*s["position"], 0.0]), np.array([*s["offset"], 0.0]),
+                   [np.array([*p, 0.0]) for p in (s["waypoints"] or [])], s["speed"], s["heave_amplitude"],
+                   s["heave_period"])
+
+    def advance(self, dt: float, t: float, robot: np.ndarray) -> np.ndarray:
+        """Move the ship over ``dt`` (s) and return the fairlead position."""
+        p = self.position
+        if self.mode == "follow":
+            target = np.array([robot[0], robot[1], 0.0]) + self.offset
+        elif self.mode == "waypoints" and self._wp < len(self.waypoints):
+            target = self.waypoints[self._wp]
+            if np.linalg.norm(target - p) < 1e-6:
+                self._wp += 1
+        else:
+            target = p
+        step = target - p
+        dist = float(np.linalg.norm(step))
+        if dist > 0:
+            p = p + step * min(1.0, self.speed * dt / dist)
+        self.position = p
+        heave = self.heave_amplitude * math.sin(2 * math.pi * t / self.heave_period)
+        return p + np.array([0.0, 0.0, heave])
+
+
+class ScenarioRun:
+    """A compiled scenario, ready to step. ``record()`` returns one row of ``RECORD_FIELDS``."""
+
+    def __init__(self, sc: dict):
+        self.sc = sc
+        self.water = water_from(sc)
+        self.tether_spec = tether_from(sc)
+        self.winch = winch_from(sc)
+        self.ship = Ship.from_scenario(sc)
+        dt = sc["simulation"]["timestep"]
+        spec = mujoco.MjSpec()
+        spec.option.timestep = dt
+        spec.option.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST
+        spec.modelname = "mjtether_scenario"
+        builder.add_seabed(spec, self.water, friction=sc["water"]["seabed_friction"])
+        ship = spec.worldbody.add_body(name="ship", mocap=True, pos=self.ship.advance(0.0, 0.0, np.zeros(3)))
+        ship.add_site(name="ship/fairlead")
+        ship.add_geom(type=mujoco.mjtGeom.mjGEOM_BOX, size=[4.0, 1.5, 1.0], pos=[0, 0, 1.0], contype=0,
+                      conaffinity=0, rgba=[0.8, 0.8, 0.85, 1])
+        robot = np.array(sc["robot"]["position"], dtype=float)
+        seabed_z = self.water.seabed_z
+        radius = self.tether_spec.diameter / 2
+        # a tow point on the seabed holds the cable's axis one radius above it
+        robot[2] = max(robot[2], seabed_z + radius)
+        self.robot_position = robot
+        top = np.array(spec.body("ship").pos)
+        self.initial, self.initial_note = self._initial_state(top, robot, dt)
+        nodes = None if self.initial is None else self.initial.nodes
+        self.tm = builder.add_tether(spec, self.tether_spec, builder.SitePoint("ship/fairlead"),
+                                     builder.FixedPoint(robot), water=self.water, nodes=nodes,
+                                     seabed_friction=sc["tether"]["seabed_friction"])
+        self.sim = Simulation(spec, self.water, tethers=[self.tm])
+        self.bt = self.sim.tether()
+        # pre-roll: soft contacts carry the laid cable's weight only once they are pressed in
+        # (about a millimetre); PREROLL_S of holding still lets them load, then t is reset to 0
+        self.sim.step(max(1, int(round(PREROLL_S / dt))))
+        self.sim.data.time = 0.0
+        self.sim.forward()
+        self.ship_mocap = self.sim.model.body("ship").mocapid[0]
+        self.rated_load = sc["tether"]["rated_load"]
+
+    def _initial_state(self, top, robot, dt):
+        """The quasi-static steady state to start from (with the tow point on the seabed the
+        seabed is taken one cable radius lower, where the cable's axis lies), or ``None`` and
+        why, if the solver fails; the run then starts from a sagged line and settles."""
+        radius = self.tether_spec.diameter / 2
+        water = wm.WaterColumn(depth=self.water.depth - radius, density=self.water.density,
+                               current=self.water.current, gravity=self.water.gravity)
+        try:
+            ss = initial_state(self.tether_spec, water, top, robot, timestep=dt, seabed=True,
+                               seabed_friction=self.sc["tether"]["seabed_friction"])
+            return ss, "quasi-static steady state"
+        except (RuntimeError, ValueError) as exc:
+            return None, f"sagged line (the steady-state solver failed: {exc})"
+
+    def step(self) -> None:
+        sim, dt = self.sim, self.sim.timestep
+        t = sim.time
+        fair = self.ship.advance(dt, t, self.robot_position)
+        sim.data.mocap_pos[self.ship_mocap] = fair
+        tension = self.bt.end_tension(sim.data, "start")
+        self.bt.set_length(sim.model, self.winch.advance(dt, t, tension, 0.0))
+        sim.step()
+        if self.bt.end_tension(sim.data, "start") > self.rated_load:
+            raise RunFailed(f"ship-end tension {self.bt.end_tension(sim.data, 'start'):.0f} N exceeded the "
+                            f"tether's rated load {self.rated_load:g} N at t = {sim.time:.2f} s")
+
+    def record(self) -> list:
+        d = self.sim.data
+        fs = self.bt.end_force(d, "start")
+        fe = self.bt.end_force(d, "end")
+        x = self.bt.nodes(d)
+        seabed = self.water.seabed_z
+        diam = self.tether_spec.diameter
+        on = x[:, 2] < seabed + diam
+        l = self.bt.segment_length
+        on_bottom = l * float(np.sum(on[1:] & on[:-1]))
+        ship = d.mocap_pos[self.ship_mocap]
+        r = self.robot_position
+        moment = np.zeros(3)  # an anchor has no centre of mass of its own
+        return [d.time, float(np.linalg.norm(fs)), *fs, float(np.linalg.norm(fe)), *fe, *fe, *moment,
+                self.bt.deployed_length, self.winch.current_rate, ship[0], ship[1], *r, 0.0, 0.0,
+                float(x[:, 2].min()), on_bottom]
+
+    def close(self) -> None:
+        self.sim.close()
+
+
+def run(sc: dict, progress=None, keep_nodes: bool = True):
+    """Simulate ``sc``; returns (rows (n, len(RECORD_FIELDS)), node history (n, N+1, 3), info).
+    ``progress(k, n)`` is called as it goes. Raises ``RunFailed`` (or ``SimulationDiverged``)."""
+    sim_sc = sc["simulation"]
+    dt = sim_sc["timestep"]
+    n_steps = int(round(sim_sc["duration"] / dt))
+    every = max(1, int(round(sim_sc["output_interval"] / dt)))
+    rows, nodes = [], []
+    t0 = time.perf_counter()
+    runner = ScenarioRun(sc)
+    try:
+        rows.append(runner.record())
+        nodes.append(runner.bt.nodes(runner.sim.data))
+        for k in range(1, n_steps + 1):
+            runner.step()
+            if k % every == 0:
+                rows.append(runner.record())
+                if keep_nodes:
+                    nodes.append(runner.bt.nodes(runner.sim.data))
+                if progress:
+                    progress(k, n_steps)
+        wall = time.perf_counter() - t0
+    finally:
+        runner.close()
+    rows = np.array(rows)
+    if not np.all(np.isfinite(rows)):
+        raise RunFailed("the run produced non-finite values")
+    info = {"initial_state": runner.initial_note, "wall_time_s": wall, "simulated_s": n_steps * dt,
+            "realtime_factor": n_steps * dt / wall if wall > 0 else math.inf, "steps": n_steps}
+    return rows, np.array(nodes), info
