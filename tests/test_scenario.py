@@ -1,0 +1,177 @@
+"""Scenario files, the runner and `mjtether run` / `mjtether solve`."""
+
+import json
+
+import numpy as np
+import pytest
+
+from mjtether import cli, results
+from mjtether.quasistatic import steady_state
+from mjtether.runner import ScenarioRun, run, tether_from, water_from
+from mjtether.scenario import SCHEMA, ScenarioError, load_scenario
+
+SMALL = """
+[simulation]
+duration = {duration}
+timestep = 0.005
+output_interval = 0.5
+[water]
+depth = 100.0
+[water.current]
+type = "exponential"
+surface_speed = 0.8
+decay_depth = 20.0
+[tether]
+length = 120.0
+segments = 30
+diameter = 0.03
+density = 2500.0
+EA = 5.0e6
+[robot]
+type = "anchor"
+position = [60.0, 0.0, -80.0]
+"""
+
+
+def small(duration=10.0, extra=""):
+    return SMALL.format(duration=duration) + extra
+
+
+# ------------------------------------------------------------------ bad scenario files
+
+BAD = {
+    "unknown key": ("[tether]\nlenght = 100.0\n", "unknown key tether.lenght"),
+    "negative depth": ("[water]\ndepth = -5.0\n", "water.depth: must be in [0.1, 12000] m"),
+    "zero segments": ("[tether]\nsegments = 0\n", "tether.segments: must be in [1, 5000]"),
+    "unsorted current table": ('[water.current]\ntype = "table"\ndepths = [0.0, 50.0, 20.0]\n'
+                               'speeds = [1.0, 0.5, 0.2]\n', "water.current.depths must be strictly increasing"),
+    "robot below the seabed": ("[water]\ndepth = 50.0\n", "is below the seabed"),
+    "wrong type": ('[simulation]\nduration = "long"\n', "simulation.duration: must be a number"),
+}
+
+
+@pytest.mark.parametrize("case", list(BAD))
+def test_bad_scenario_files_exit_nonzero_with_one_clear_error(case, tmp_path, capsys):
+    body, message = BAD[case]
+    text = body + ("" if "[robot]" in body else '[robot]\nposition = [10.0, 0.0, -80.0]\n')
+    f = tmp_path / "bad.toml"
+    f.write_text(text)
+    out = tmp_path / "res"
+    assert cli.main(["run", str(f), "--out", str(out)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and str(f) in err[0] and message in err[0], err
+    assert not out.exists()
+
+
+def test_knots_are_converted_and_unknown_sections_refused():
+    sc = load_scenario(text='[water.current]\ntype = "constant"\nspeed_kn = 2.0\n[robot]\nposition = [1.0, 0, -10.0]')
+    assert sc["water.current"]["speed"] == pytest.approx(2 * 0.514444)
+    with pytest.raises(ScenarioError, match="unknown section"):
+        load_scenario(text="[boat]\nx = 1\n")
+    with pytest.raises(ScenarioError, match="given twice"):
+        load_scenario(text="[water.current]\nspeed = 1.0\nspeed_kn = 2.0\n[robot]\nposition = [1.0, 0, -10.0]")
+
+
+def test_every_key_is_documented():
+    doc = open("docs/scenarios.md").read()
+    for section, keys in SCHEMA.items():
+        assert f"### [{section}]" in doc
+        for k in keys:
+            assert f"| `{k}`" in doc, f"{section}.{k} missing from docs/scenarios.md"
+    for name in results.column_names():
+        assert f"`{name}`" in doc
+
+
+# ------------------------------------------------------------------ physics through the runner
+
+def test_static_scenario_stays_at_the_quasi_static_answer():
+    """Both ends fixed in a depth-varying current: after 30 s the run's end forces are within
+    2 % of an independent steady_state solve, nodes within 1 % of the length (the tolerances of
+    the dynamic cross-checks in test_quasistatic)."""
+    sc = load_scenario(text=small(30.0))
+    rows, nodes, info = run(sc)
+    assert info["initial_state"] == "quasi-static steady state"
+    water, tether = water_from(sc), tether_from(sc)
+    ss = steady_state(tether, water, [0, 0, 0], [60.0, 0.0, -80.0])
+    f_ship = rows[-1, 2:5]
+    f_tow = rows[-1, 6:9]
+    assert np.linalg.norm(f_ship - ss.top_force) <= 0.02 * ss.top_tension
+    assert np.linalg.norm(f_tow - ss.bottom_force) <= 0.02 * ss.tow_tension
+    assert np.abs(nodes[-1] - ss.nodes).max() <= 0.01 * tether.length
+
+
+SHIP_AWAY = """
+[ship]
+mode = "waypoints"
+waypoints = [[-40.0, 0.0]]
+speed = 0.5
+"""
+
+
+def test_tension_rises_as_the_ship_moves_away_with_a_fixed_length():
+    """The ship moves 20 m away at 0.5 m/s: the ship-end tension rises (21 % here) to the
+    quasi-static tension at the ship's final position, within 2 % (the ship is still moving)."""
+    sc = load_scenario(text=small(40.0, SHIP_AWAY))
+    rows, _, _ = run(sc)
+    t = rows[:, 1]
+    assert np.all(np.diff(t[4:]) > -0.01 * t[0])  # rising, up to noise
+    final = steady_state(tether_from(sc), water_from(sc), [rows[-1, 17], rows[-1, 18], 0.0], [60.0, 0.0, -80.0])
+    assert final.top_tension > 1.15 * t[0]
+    assert t[-1] == pytest.approx(final.top_tension, rel=0.02)
+
+
+def test_tension_band_mode_holds_the_band():
+    """The same manoeuvre with the winch regulating the ship-end tension into [1.05, 1.25] times
+    its initial value: after the first 5 s every sample is inside the band (2 % slack for the
+    regulator's ramp and the cable's response)."""
+    t0 = run(load_scenario(text=small(0.5)))[0][0, 1]
+    lo, hi = 1.05 * t0, 1.25 * t0
+    winch = f'\n[winch]\nmode = "tension"\nband = [{lo}, {hi}]\nmax_rate = 1.0\nmax_length = 300.0\n'
+    rows, _, _ = run(load_scenario(text=small(40.0, SHIP_AWAY + winch)))
+    t = rows[rows[:, 0] >= 5.0, 1]
+    assert t.min() >= 0.98 * lo and t.max() <= 1.02 * hi
+    # it reeled in to bring the tension up into the band, then paid out as the ship moved away
+    assert rows[:, 15].min() < 119.0 and rows[-1, 15] > rows[:, 15].min() + 1.0 and rows[-1, 16] > 0
+
+
+# ------------------------------------------------------------------ the command line
+
+def test_run_writes_a_complete_results_folder(tmp_path):
+    f = tmp_path / "s.toml"
+    f.write_text(small(2.0))
+    out = tmp_path / "res"
+    assert cli.main(["run", str(f), "--out", str(out)]) == 0
+    names = {p.name for p in out.iterdir()}
+    assert {"timeseries.csv", "tether.npz", "summary.json", "tension.png", "profile.png", "track.png"} <= names
+    header = (out / "timeseries.csv").read_text().splitlines()[0].split(",")
+    assert header == results.column_names()
+    data = np.genfromtxt(out / "timeseries.csv", delimiter=",", skip_header=1)
+    assert data.shape == (5, len(header)) and np.all(np.isfinite(data))
+    npz = np.load(out / "tether.npz")
+    assert npz["nodes"].shape == (5, 31, 3)
+    s = json.loads((out / "summary.json").read_text())
+    assert s["scenario"]["tether"]["segments"] == 30 and s["run"]["realtime_factor"] > 0
+    assert all((out / p).stat().st_size > 1000 for p in ("tension.png", "profile.png", "track.png"))
+
+
+def test_failed_run_writes_nothing(tmp_path, capsys):
+    """Above the rated load the run stops, exits 1 and leaves no results folder."""
+    f = tmp_path / "s.toml"
+    f.write_text(small(5.0).replace("EA = 5.0e6", "EA = 5.0e6\nrated_load = 100.0"))
+    out = tmp_path / "res"
+    assert cli.main(["run", str(f), "--out", str(out)]) == 1
+    assert "rated load" in capsys.readouterr().err
+    assert not out.exists() and not list(tmp_path.glob(".res*"))
+
+
+def test_solve_prints_the_steady_state(tmp_path, capsys):
+    f = tmp_path / "s.toml"
+    f.write_text(small())
+    assert cli.main(["solve", str(f)]) == 0
+    text = capsys.readouterr().out
+    sc = load_scenario(f)
+    r = ScenarioRun(sc)
+    try:
+        assert f"tension {r.initial.top_tension:.1f} N" in text
+    finally:
+        r.close()
