@@ -18,6 +18,9 @@ from .rigidbody import BodyHydroModel, BoundBodyHydro, make_not_simple
 from .water import WaterColumn
 
 
+_EQUALITY = int(mujoco.mjtConstraint.mjCNSTR_EQUALITY)  # an int: comparing arrays with the enum is slow
+
+
 class SimulationDiverged(RuntimeError):
     """The state became non-finite or MuJoCo reported a bad acceleration."""
 
@@ -105,8 +108,8 @@ class BoundTether:
 
     @staticmethod
     def _rows(data: mujoco.MjData, eq_id: int) -> np.ndarray:
-        return np.nonzero((data.efc_type == mujoco.mjtConstraint.mjCNSTR_EQUALITY)
-                          & (data.efc_id == eq_id))[0]
+        n = data.nefc  # (the efc arrays are allocated longer than the active rows)
+        return np.nonzero((data.efc_type[:n] == _EQUALITY) & (data.efc_id[:n] == eq_id))[0]
 
     def tension(self, data: mujoco.MjData) -> np.ndarray:
         """Axial tension of each element (N), shape (N,); negative means compression."""
