@@ -66,6 +66,7 @@ def write(out, sc: dict, rows: np.ndarray, nodes: np.ndarray, info: dict, scenar
     out = Path(out)
     out.parent.mkdir(parents=True, exist_ok=True)
     tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}.partial-", dir=out.parent))
+    tmp.chmod(0o755)  # mkdtemp makes it private; results are ordinary files
     try:
         with open(tmp / "timeseries.csv", "w", newline="") as fh:
             w = csv.writer(fh)
