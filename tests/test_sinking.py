@@ -2,7 +2,6 @@
 normal drag balances its wet weight: (mu - rho A) g = 1/2 rho C_dn d v^2."""
 
 import numpy as np
-import pytest
 
 import mjtether as mt
 from conftest import new_spec

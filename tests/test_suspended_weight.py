@@ -61,7 +61,7 @@ def test_period_and_decay_in_still_water():
 
     # amplitude decay. Independent reference 1: Eq. 2 integrated numerically (scipy, rtol 1e-10)
     # with sin(phi) kept, i.e. the paper's model without the small-angle and averaging steps.
-    w2, eps, l = PAPER.omega**2, PAPER.eps, PAPER.l
+    w2, eps = PAPER.omega**2, PAPER.eps
     ode = solve_ivp(lambda _, y: [y[1], -w2 * np.sin(y[0]) - eps * abs(y[1]) * y[1]],
                     (0, t[-1]), [phi0, 0.0], t_eval=t, rtol=1e-10, atol=1e-12)
     pk, _ = find_peaks(phi)
