@@ -1,0 +1,117 @@
+"""The hexapod seabed walker: model loading, hydrodynamics and a tripod gait.
+
+The MJCF is ``assets/walker/walker.xml`` (``scene.xml`` stands it on a seabed). ``Tripod``
+turns a commanded forward speed v (m/s, body x) and turn rate w (rad/s, about z) into the 18
+joint targets of the position actuators: legs {lf, rm, lr} and {rf, lm, rr} alternate between
+stance, where each foot moves in the body frame at -(v x + w z x p) so that the body moves at
+(v, w) if the feet do not slip, and swing, where the foot returns along the same line lifted by
+``step_height`` on a half sine. Feet positions go through the analytic inverse kinematics of
+each 3-joint leg (coxa yaw, femur and tibia pitch). Units SI; body frame x forward, z up.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import mujoco
+import numpy as np
+
+from .rigidbody import RigidBodyHydro
+
+ASSETS = Path(__file__).resolve().parents[1] / "assets" / "walker"
+LEGS = ("lf", "lm", "lr", "rf", "rm", "rr")
+TRIPOD_A = ("lf", "rm", "lr")
+COXA, FEMUR, TIBIA, FOOT_RADIUS = 0.15, 0.5, 0.8, 0.08
+MASS = 650.0  # kg in air
+
+HYDRO = RigidBodyHydro(
+    # hull and legs displace 0.38 m^3: 3.82 kN of buoyancy in 1025 kg/m^3 against 6.38 kN of
+    # weight, 2.56 kN submerged weight (39 % of the weight in air)
+    volume=0.38, centre_of_buoyancy=(0.0, 0.0, 0.1),
+    drag_cd=(1.0, 1.0, 1.2), drag_area=(1.0 * 0.4 + 0.6, 1.6 * 0.4 + 0.6, 1.6 * 1.0 + 0.4),
+    added_mass=(160.0, 330.0, 900.0), added_inertia=(60.0, 120.0, 150.0), angular_drag=(300.0, 600.0, 600.0),
+    height=1.1)
+"""Rigid-body hydrodynamics of the walker, on the torso (legs lumped in)."""
+
+
+def walker_spec() -> mujoco.MjSpec:
+    """The walker alone (its torso body is ``torso``, its tow point site ``tow_point``)."""
+    return mujoco.MjSpec.from_file(str(ASSETS / "walker.xml"))
+
+
+def leg_ik(p) -> tuple[float, float, float]:
+    """Joint angles (coxa, femur, tibia) in rad that put the foot centre at ``p`` (m, leg frame:
+    x out of the hip, z up). Knee up; raises ValueError if out of reach."""
+    x, y, z = (float(c) for c in p)
+    q0 = math.atan2(y, x)
+    r = math.hypot(x, y) - COXA
+    D = math.hypot(r, z)
+    if not abs(FEMUR - TIBIA) < D < FEMUR + TIBIA:
+        raise ValueError(f"leg_ik: foot target {p} is out of reach")
+    gamma = math.acos((FEMUR**2 + D * D - TIBIA**2) / (2 * FEMUR * D))
+    a1 = math.atan2(z, r) + gamma
+    a2 = math.atan2(z - FEMUR * math.sin(a1), r - FEMUR * math.cos(a1))
+    q1 = -a1
+    phi = math.atan2(-math.cos(a2), -math.sin(a2))
+    return q0, q1, phi - q1
+
+
+@dataclass
+class Tripod:
+    """Tripod gait (see the module docstring).
+
+    Attributes:
+        period: gait cycle (s); each tripod is in stance for half of it.
+        step_height: foot lift in swing (m).
+        max_stride: longest stance stroke (m); faster commands are clipped to max_stride / (period / 2).
+    """
+
+    period: float = 1.2
+    step_height: float = 0.15
+    max_stride: float = 0.6
+
+    def __post_init__(self):
+        self.phase = 0.0
+        self._legs = None
+
+    @property
+    def top_speed(self) -> float:
+        return self.max_stride / (self.period / 2)
+
+    def bind(self, model: mujoco.MjModel, prefix: str = "") -> "Tripod":
+        """Read hip poses and actuator indices from a compiled model."""
+        legs = {}
+        for leg in LEGS:
+            b = model.body(f"{prefix}leg_{leg}")
+            yaw = 2 * math.atan2(b.quat[3], b.quat[0])
+            hip = np.array(b.pos)
+            R = np.array([[math.cos(yaw), -math.sin(yaw), 0], [math.sin(yaw), math.cos(yaw), 0], [0, 0, 1]])
+            neutral = hip + R @ np.array([COXA + FEMUR, 0.0, -TIBIA])
+            act = [model.actuator(f"{prefix}{leg}_{j}").id for j in ("coxa", "femur", "tibia")]
+            legs[leg] = (hip, R, neutral, act, 0.0 if leg in TRIPOD_A else 0.5)
+        self._legs = legs
+        return self
+
+    def targets(self, dt: float, speed: float, turn_rate: float) -> dict:
+        """Advance the phase by ``dt`` (s) and return {actuator id: target angle (rad)}."""
+        self.phase = (self.phase + dt / self.period) % 1.0
+        half = self.period / 2
+        out = {}
+        for hip, R, neutral, act, offset in self._legs.values():
+            s = (self.phase + offset) % 1.0
+            vel = np.array([speed - turn_rate * neutral[1], turn_rate * neutral[0], 0.0])
+            d = vel * half
+            n = np.linalg.norm(d)
+            if n > self.max_stride:
+                d *= self.max_stride / n
+            if s < 0.5:  # stance
+                foot = neutral + (0.5 - 2 * s) * d
+            else:  # swing
+                sig = 2 * s - 1
+                foot = neutral + (sig - 0.5) * d + np.array([0.0, 0.0, self.step_height * math.sin(math.pi * sig)])
+            q = leg_ik(R.T @ (foot - hip))
+            for a, v in zip(act, q):
+                out[a] = v
+        return out
