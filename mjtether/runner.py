@@ -24,7 +24,10 @@ import numpy as np
 
 from . import builder, water as wm
 from .quasistatic import initial_state
+from .rigidbody import add_body_hydro
 from .simulation import Simulation
+from .walker import HYDRO as WALKER_HYDRO
+from .walker import Tripod, walker_spec
 from .tether import TetherSpec
 from .winch import Winch
 
@@ -58,7 +61,11 @@ RECORD_FIELDS = [
 ]
 
 
-PREROLL_S = 0.25
+PREROLL_S = 1.0
+CONTROL_HZ = 100.0
+"""Rate (Hz) at which the gait updates the walker's joint targets."""
+WALKER_STAND_HEIGHT = 0.9
+"""Height (m) of the walker's torso above the seabed when it is placed."""
 """Seconds simulated before t = 0 with the ship and winch still (see ``ScenarioRun``)."""
 
 
@@ -162,26 +169,49 @@ class ScenarioRun:
         ship.add_site(name="ship/fairlead")
         ship.add_geom(type=mujoco.mjtGeom.mjGEOM_BOX, size=[4.0, 1.5, 1.0], pos=[0, 0, 1.0], contype=0,
                       conaffinity=0, rgba=[0.8, 0.8, 0.85, 1])
-        robot = np.array(sc["robot"]["position"], dtype=float)
         seabed_z = self.water.seabed_z
         radius = self.tether_spec.diameter / 2
-        # a tow point on the seabed holds the cable's axis one radius above it
-        robot[2] = max(robot[2], seabed_z + radius)
+        r = sc["robot"]
+        self.walker = r["type"] == "walker"
+        bodies = []
+        if self.walker:
+            x, y = r["start"]
+            yaw = r["heading"]
+            frame = spec.worldbody.add_frame(pos=[x, y, seabed_z + WALKER_STAND_HEIGHT],
+                                             quat=[math.cos(yaw / 2), 0.0, 0.0, math.sin(yaw / 2)])
+            frame.attach_body(walker_spec().body("torso"), "walker/", "")
+            bodies.append(add_body_hydro(spec, "walker/torso", WALKER_HYDRO))
+            end = builder.SitePoint("walker/tow_point")
+            robot = builder._anchor_position(spec, end)
+            self.commands = np.array(r["commands"], dtype=float)
+            self.gait = Tripod(period=r["gait_period"])
+        else:
+            robot = np.array(r["position"], dtype=float)
+            # a tow point on the seabed holds the cable's axis one radius above it
+            robot[2] = max(robot[2], seabed_z + radius)
+            end = builder.FixedPoint(robot)
         self.robot_position = robot
         top = np.array(spec.body("ship").pos)
         self.initial, self.initial_note = self._initial_state(top, robot, dt)
-        nodes = None if self.initial is None else self.initial.nodes
-        self.tm = builder.add_tether(spec, self.tether_spec, builder.SitePoint("ship/fairlead"),
-                                     builder.FixedPoint(robot), water=self.water, nodes=nodes,
-                                     seabed_friction=sc["tether"]["seabed_friction"])
-        self.sim = Simulation(spec, self.water, tethers=[self.tm])
+        nodes = self._fallback_nodes(top, robot) if self.initial is None else self.initial.nodes
+        self.tm = builder.add_tether(spec, self.tether_spec, builder.SitePoint("ship/fairlead"), end,
+                                     water=self.water, nodes=nodes, seabed_friction=sc["tether"]["seabed_friction"])
+        self.sim = Simulation(spec, self.water, tethers=[self.tm], bodies=bodies)
         self.bt = self.sim.tether()
-        # pre-roll: soft contacts carry the laid cable's weight only once they are pressed in
-        # (about a millimetre); PREROLL_S of holding still lets them load, then t is reset to 0
-        self.sim.step(max(1, int(round(PREROLL_S / dt))))
+        m = self.sim.model
+        self._since_control = 1.0 / CONTROL_HZ  # the first call sets the targets
+        if self.walker:
+            self.gait.bind(m, prefix="walker/")
+            self.torso = m.body("walker/torso").id
+            self.tow_site = m.site("walker/tow_point").id
+        # pre-roll: soft contacts carry the laid cable's (and the walker's) weight only once they
+        # are pressed in; PREROLL_S of standing still lets them load, then t is reset to 0
+        for _ in range(max(1, int(round(PREROLL_S / dt)))):
+            self._drive(dt, 0.0, 0.0)
+            self.sim.step()
         self.sim.data.time = 0.0
         self.sim.forward()
-        self.ship_mocap = self.sim.model.body("ship").mocapid[0]
+        self.ship_mocap = m.body("ship").mocapid[0]
         self.rated_load = sc["tether"]["rated_load"]
 
     def _initial_state(self, top, robot, dt):
@@ -189,22 +219,74 @@ class ScenarioRun:
         seabed is taken one cable radius lower, where the cable's axis lies), or ``None`` and
         why, if the solver fails; the run then starts from a sagged line and settles."""
         radius = self.tether_spec.diameter / 2
-        water = wm.WaterColumn(depth=self.water.depth - radius, density=self.water.density,
+        # the cable's axis rests one radius above the seabed; a walker's tow point is higher,
+        # and the steady state then lays the cable at the tow point's height, from where it
+        # drops onto the seabed in the first second
+        depth = min(self.water.depth - radius, -robot[2])
+        water = wm.WaterColumn(depth=depth, density=self.water.density,
                                current=self.water.current, gravity=self.water.gravity)
         try:
             ss = initial_state(self.tether_spec, water, top, robot, timestep=dt, seabed=True,
                                seabed_friction=self.sc["tether"]["seabed_friction"])
             return ss, "quasi-static steady state"
         except (RuntimeError, ValueError) as exc:
-            return None, f"sagged line (the steady-state solver failed: {exc})"
+            return None, f"a hanging and laid line (no steady state: {exc})"
+
+    def _fallback_nodes(self, top, robot) -> np.ndarray:
+        """A start that stays above the seabed when there is no steady state: the cable hangs
+        straight down from the ship to the seabed, then runs along it to the tow point, with any
+        excess length laid as a sideways detour (a slack tether coils on the bottom)."""
+        L, N = self.tether_spec.length, self.tether_spec.segments
+        floor = self.water.seabed_z + self.tether_spec.diameter / 2
+        a = np.array([top[0], top[1], floor])
+        run = np.array([robot[0] - a[0], robot[1] - a[1], 0.0])
+        span = float(np.linalg.norm(run))
+        drop = top[2] - floor
+        excess = L - drop - span - (robot[2] - floor)
+        side = np.array([-run[1], run[0], 0.0]) / max(span, 1e-9) if span > 1e-9 else np.array([0.0, 1.0, 0.0])
+        b = robot - np.array([0.0, 0.0, robot[2] - floor])
+        pts = [top, a] + ([a + side * excess / 2, b + side * excess / 2] if excess > 0 else []) + [b, robot]
+        pts = np.array(pts)
+        seg = np.linalg.norm(np.diff(pts, axis=0), axis=1)
+        s = np.r_[0.0, np.cumsum(seg)]
+        u = np.linspace(0.0, s[-1], N + 1)
+        return np.c_[[np.interp(u, s, pts[:, k]) for k in range(3)]].T
+
+    def command(self, t: float) -> tuple[float, float]:
+        """The walker's commanded (speed m/s, turn rate rad/s) at time ``t`` (s)."""
+        k = int(np.searchsorted(self.commands[:, 0], t, side="right")) - 1
+        return float(self.commands[k, 1]), float(self.commands[k, 2])
+
+    def _drive(self, dt: float, speed: float, turn_rate: float) -> None:
+        """Gait targets at CONTROL_HZ (the position servos run at every step)."""
+        if not self.walker:
+            return
+        self._since_control += dt
+        if self._since_control >= 1.0 / CONTROL_HZ - 1e-9:
+            for a, q in self.gait.targets(self._since_control, speed, turn_rate).items():
+                self.sim.data.ctrl[a] = q
+            self._since_control = 0.0
+
+    def robot_state(self):
+        """(tow point position, yaw (rad), horizontal speed (m/s), body rotation matrix)."""
+        d = self.sim.data
+        if not self.walker:
+            return self.robot_position, 0.0, 0.0, np.eye(3)
+        R = d.xmat[self.torso].reshape(3, 3)
+        vel = np.zeros(6)  # (angular, linear), world frame, at the torso frame's origin
+        mujoco.mj_objectVelocity(self.sim.model, d, mujoco.mjtObj.mjOBJ_BODY, self.torso, vel, 0)
+        return d.site_xpos[self.tow_site].copy(), math.atan2(R[1, 0], R[0, 0]), float(np.hypot(*vel[3:5])), R
 
     def step(self) -> None:
         sim, dt = self.sim, self.sim.timestep
         t = sim.time
-        fair = self.ship.advance(dt, t, self.robot_position)
+        tow, _, speed, _ = self.robot_state()
+        if self.walker:
+            self._drive(dt, *self.command(t))
+        fair = self.ship.advance(dt, t, tow)
         sim.data.mocap_pos[self.ship_mocap] = fair
         tension = self.bt.end_tension(sim.data, "start")
-        self.bt.set_length(sim.model, self.winch.advance(dt, t, tension, 0.0))
+        self.bt.set_length(sim.model, self.winch.advance(dt, t, tension, speed))
         sim.step()
         if self.bt.end_tension(sim.data, "start") > self.rated_load:
             raise RunFailed(f"ship-end tension {self.bt.end_tension(sim.data, 'start'):.0f} N exceeded the "
@@ -218,13 +300,15 @@ class ScenarioRun:
         seabed = self.water.seabed_z
         diam = self.tether_spec.diameter
         on = x[:, 2] < seabed + diam
-        l = self.bt.segment_length
-        on_bottom = l * float(np.sum(on[1:] & on[:-1]))
+        on_bottom = self.bt.segment_length * float(np.sum(on[1:] & on[:-1]))
         ship = d.mocap_pos[self.ship_mocap]
-        r = self.robot_position
-        moment = np.zeros(3)  # an anchor has no centre of mass of its own
-        return [d.time, float(np.linalg.norm(fs)), *fs, float(np.linalg.norm(fe)), *fe, *fe, *moment,
-                self.bt.deployed_length, self.winch.current_rate, ship[0], ship[1], *r, 0.0, 0.0,
+        tow, yaw, speed, R = self.robot_state()
+        if self.walker:  # Khan et al. Eq. 38 about the walker's centre of mass
+            moment = np.cross(tow - d.subtree_com[self.torso], fe)
+        else:
+            moment = np.zeros(3)  # an anchor has no centre of mass of its own
+        return [d.time, float(np.linalg.norm(fs)), *fs, float(np.linalg.norm(fe)), *fe, *(R.T @ fe), *moment,
+                self.bt.deployed_length, self.winch.current_rate, ship[0], ship[1], *tow, yaw, speed,
                 float(x[:, 2].min()), on_bottom]
 
     def close(self) -> None:

@@ -105,13 +105,18 @@ SCHEMA: dict[str, dict[str, Key]] = {
         "drum_damping": Key("float", 200.0, 1e-3, 1e9, "N s/m", "free: tension per unit payout rate"),
     },
     "robot": {
-        "type": Key("str", "anchor", doc="anchor (a fixed point; the walker follows in a later release)",
-                    choices=("anchor",)),
-        "position": Key("vec3", None, -1e6, 1e6, "m", "anchor: tow point (x, y, z); z defaults to the seabed"),
+        "type": Key("str", "walker", doc="walker (the hexapod of assets/walker) or anchor (a fixed tow point)",
+                    choices=("walker", "anchor")),
+        "position": Key("vec3", None, -1e6, 1e6, "m", "anchor: tow point (x, y, z)"),
+        "start": Key("vec2", (60.0, 0.0), -1e6, 1e6, "m", "walker: start position (x, y) on the seabed"),
+        "heading": Key("float", 0.0, -2 * math.pi, 2 * math.pi, "rad", "walker: start heading, from +x towards +y"),
+        "commands": Key("table", [[0.0, 0.3, 0.0]], -1e6, 1e6, "s, m/s, rad/s",
+                        "walker: schedule of (time, forward speed, turn rate), each held until the next"),
+        "gait_period": Key("float", 1.2, 0.4, 5.0, "s", "walker: tripod gait cycle"),
     },
 }
 
-SECTIONS_REQUIRED_KEYS = {("robot", "position")}
+SECTIONS_REQUIRED_KEYS = {("robot", "position")}  # (for an anchor)
 
 
 class ScenarioError(ValueError):
@@ -217,6 +222,18 @@ def _cross_checks(name: str, sc: dict) -> None:
             bad("robot.position is required for an anchor: (x, y, z) in m")
         if robot["position"][2] < -depth - 1e-6:
             bad(f"robot.position z = {robot['position'][2]} m is below the seabed (z = {-depth} m)")
+    else:
+        cmds = robot["commands"]
+        if any(not isinstance(c, tuple) or len(c) != 3 for c in cmds):
+            bad("robot.commands must be a list of [time (s), speed (m/s), turn rate (rad/s)]")
+        times = [c[0] for c in cmds]
+        if times[0] != 0.0 or any(b <= a for a, b in zip(times, times[1:])):
+            bad(f"robot.commands times must start at 0 s and increase, got {times}")
+        for t, v, w in cmds:
+            if not -1.0 <= v <= 1.0:
+                bad(f"robot.commands speed must be in [-1, 1] m/s (the walker's top speed), got {v} at t = {t} s")
+            if not -0.5 <= w <= 0.5:
+                bad(f"robot.commands turn rate must be in [-0.5, 0.5] rad/s, got {w} at t = {t} s")
     for sec, keys in (("water.density", ("depths", "values")), ("water.current", ("depths", "speeds"))):
         if sc[sec]["type"] == "table":
             for k in keys:

@@ -53,7 +53,7 @@ BAD = {
 @pytest.mark.parametrize("case", list(BAD))
 def test_bad_scenario_files_exit_nonzero_with_one_clear_error(case, tmp_path, capsys):
     body, message = BAD[case]
-    text = body + ("" if "[robot]" in body else '[robot]\nposition = [10.0, 0.0, -80.0]\n')
+    text = body + ("" if "[robot]" in body else '[robot]\ntype = "anchor"\nposition = [10.0, 0.0, -80.0]\n')
     f = tmp_path / "bad.toml"
     f.write_text(text)
     out = tmp_path / "res"
@@ -64,12 +64,14 @@ def test_bad_scenario_files_exit_nonzero_with_one_clear_error(case, tmp_path, ca
 
 
 def test_knots_are_converted_and_unknown_sections_refused():
-    sc = load_scenario(text='[water.current]\ntype = "constant"\nspeed_kn = 2.0\n[robot]\nposition = [1.0, 0, -10.0]')
+    sc = load_scenario(text='[water.current]\ntype = "constant"\nspeed_kn = 2.0\n[robot]\ntype = "anchor"\n'
+                            'position = [1.0, 0, -10.0]')
     assert sc["water.current"]["speed"] == pytest.approx(2 * 0.514444)
     with pytest.raises(ScenarioError, match="unknown section"):
         load_scenario(text="[boat]\nx = 1\n")
     with pytest.raises(ScenarioError, match="given twice"):
-        load_scenario(text="[water.current]\nspeed = 1.0\nspeed_kn = 2.0\n[robot]\nposition = [1.0, 0, -10.0]")
+        load_scenario(text="[water.current]\nspeed = 1.0\nspeed_kn = 2.0\n[robot]\ntype = 'anchor'\n"
+                           "position = [1.0, 0, -10.0]")
 
 
 def test_every_key_is_documented():
@@ -130,8 +132,9 @@ def test_tension_band_mode_holds_the_band():
     rows, _, _ = run(load_scenario(text=small(40.0, SHIP_AWAY + winch)))
     t = rows[rows[:, 0] >= 5.0, 1]
     assert t.min() >= 0.98 * lo and t.max() <= 1.02 * hi
-    # it reeled in to bring the tension up into the band, then paid out as the ship moved away
-    assert rows[:, 15].min() < 119.0 and rows[-1, 15] > rows[:, 15].min() + 1.0 and rows[-1, 16] > 0
+    # it reels in (a little) to bring the tension up into the band, then pays out as the ship
+    # moves away
+    assert rows[:, 15].min() < 120.0 and rows[-1, 15] > rows[:, 15].min() + 1.0 and rows[-1, 16] > 0
 
 
 # ------------------------------------------------------------------ the command line
@@ -175,3 +178,44 @@ def test_solve_prints_the_steady_state(tmp_path, capsys):
         assert f"tension {r.initial.top_tension:.1f} N" in text
     finally:
         r.close()
+
+
+# ------------------------------------------------------------------ the walker on a tether
+
+WALK = """
+[simulation]
+duration = 40.0
+output_interval = 0.5
+[water]
+depth = 100.0
+[tether]
+length = {length}
+segments = 40
+diameter = 0.025
+density = 2500.0
+EA = 5.0e6
+[winch]
+mode = "{winch}"
+max_length = 400.0
+[robot]
+type = "walker"
+start = [60.0, 0.0]
+commands = [[0.0, 0.5, 0.0]]
+"""
+
+
+def test_slow_payout_slows_the_walker_and_the_tow_force_opposes_it():
+    """The walker sets off at 0.5 m/s with the winch paying out at its speed (Eq. 30), and
+    again with the winch fixed and only 5 m of slack: the tether then pulls back on the tow
+    point (negative body-x force, growing) and the walker covers measurably less ground."""
+    out = {}
+    for winch in ("follow", "fixed"):
+        rows, _, _ = run(load_scenario(text=WALK.format(length=122.0, winch=winch)))
+        out[winch] = rows
+    dist = {k: r[-1, 19] - r[0, 19] for k, r in out.items()}
+    assert dist["fixed"] < 0.9 * dist["follow"]
+    assert dist["follow"] == pytest.approx(0.5 * 40.0, rel=0.1)
+    tow_x = {k: r[:, 9] for k, r in out.items()}  # tow force, body x (forward)
+    assert tow_x["fixed"][-10:].mean() < 2.0 * tow_x["follow"][-10:].mean() < 0.0
+    tow = out["fixed"][:, 5]
+    assert tow[-1] > 3.0 * tow[4]  # tow-point tension rises as the walker moves away

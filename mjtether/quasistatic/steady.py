@@ -39,6 +39,7 @@ from .. import _checks
 from ..hydro import wet_fraction
 from ..tether import TetherSpec
 from ..water import WaterColumn
+from .catenary import catenary
 
 
 MIN_COARSE_SEGMENTS = 5
@@ -275,6 +276,10 @@ def steady_state(tether: TetherSpec, water: WaterColumn, top, bottom=None, *, to
         raise ValueError(f"steady_state: an inextensible tether of length {tether.length} m cannot span "
                          f"{chord:.6g} m between its ends")
     contact = bool(seabed) and abs(bottom[2] - seabed_z) <= 1e-3
+    if contact and tether.length > (top[2] - seabed_z) + np.hypot(*(bottom - top)[:2]):
+        raise ValueError(f"steady_state: the tether ({tether.length:g} m) is longer than its drop to the seabed "
+                         "plus the horizontal span, so the excess would coil on the seabed, which is not "
+                         "modelled (the laid part is straight)")
     problem = dict(top=top, bottom=bottom, contact=contact, seabed_z=seabed_z, cb=cb)
     J = None
     if guess is not None:
@@ -288,9 +293,9 @@ def steady_state(tether: TetherSpec, water: WaterColumn, top, bottom=None, *, to
                                EA=EA, tol=max(tol, 1e-5), max_iterations=max_iterations)
             F, J = sub.top_force, sub.jacobian
         except RuntimeError:  # too coarse to resolve the shape: start from scratch at this N
-            F = _first_guess(cable, top, bottom)
+            F = _first_guess(cable, top, bottom, contact, cb)
     else:
-        F = _first_guess(cable, top, bottom)
+        F = _first_guess(cable, top, bottom, contact, cb)
     F, J, shot, r = _solve_top_force(cable, problem, F, J, tol, max_iterations)
     X, T, P, td = shot
     if contact and td >= 0:
@@ -328,11 +333,19 @@ def _force_scale(cable: _Cable, top, bottom) -> float:
     return max(w, 0.5 * rho * cable.cdn * cable.d * u * u, 1e-3) * cable.L
 
 
-def _first_guess(cable: _Cable, top, bottom) -> np.ndarray:
-    """Half the weight down, plus the force scale along the chord."""
+def _first_guess(cable: _Cable, top, bottom, contact: bool = False, cb: float = 0.0) -> np.ndarray:
+    """The analytic catenary's top force (no current, mean density), when it applies; else half
+    the weight down plus the force scale along the chord."""
     d = bottom - top
-    w = abs(cable.mu - 1025.0 * cable.A) * cable.g
-    return 0.5 * w * cable.L * np.array([0.0, 0.0, -1.0]) + d / max(np.linalg.norm(d), 1e-9) * 0.5 * \
+    w = (cable.mu - float(cable.water.rho(np.array([0.5 * (top[2] + bottom[2])]))[0]) * cable.A) * cable.g
+    if w > 0 and top[2] >= bottom[2] and np.hypot(d[0], d[1]) > 1e-6 * cable.L:
+        try:
+            c = catenary(bottom, top, cable.L, w, EA=None if cable.EA == math.inf else cable.EA, cb=cb,
+                         seabed=contact)
+            return c.fairlead_force
+        except (ValueError, RuntimeError):
+            pass
+    return 0.5 * abs(w) * cable.L * np.array([0.0, 0.0, -1.0]) + d / max(np.linalg.norm(d), 1e-9) * 0.5 * \
         _force_scale(cable, top, bottom)
 
 
