@@ -209,7 +209,8 @@ class TetherModel:
         return self.axial.effective_EA(self.spec.segment_length)
 
 
-def _anchor_position(spec: mujoco.MjSpec, anchor: Anchor) -> np.ndarray | None:
+def anchor_position(spec: mujoco.MjSpec, anchor: Anchor) -> np.ndarray | None:
+    """World position (m) of ``anchor`` in the uncompiled ``spec`` (None for a free end)."""
     if isinstance(anchor, FixedPoint):
         return np.asarray(anchor.position, float)
     if isinstance(anchor, FreeEnd):
@@ -261,8 +262,8 @@ def add_tether(
     dt = _checks.positive("spec.option.timestep", spec.option.timestep, "s")
     N, L, l = tether.segments, tether.length, tether.segment_length
 
-    p0 = _anchor_position(spec, start)
-    p1 = _anchor_position(spec, end)
+    p0 = anchor_position(spec, start)
+    p1 = anchor_position(spec, end)
     if nodes is None and p0 is None:
         raise ValueError("nodes: give the initial node positions when the start end is free")
     if nodes is None:

@@ -182,7 +182,7 @@ class ScenarioRun:
             frame.attach_body(walker_spec().body("torso"), "walker/", "")
             bodies.append(add_body_hydro(spec, "walker/torso", WALKER_HYDRO))
             end = builder.SitePoint("walker/tow_point")
-            robot = builder._anchor_position(spec, end)
+            robot = builder.anchor_position(spec, end)
             self.commands = np.array(r["commands"], dtype=float)
             self.gait = Tripod(period=r["gait_period"])
         else:
