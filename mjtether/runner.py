@@ -217,7 +217,7 @@ class ScenarioRun:
     def _initial_state(self, top, robot, dt):
         """The quasi-static steady state to start from (with the tow point on the seabed the
         seabed is taken one cable radius lower, where the cable's axis lies), or ``None`` and
-        why, if the solver fails; the run then starts from a sagged line and settles."""
+        why, if the solver fails; the run then starts from ``_fallback_nodes`` and settles."""
         radius = self.tether_spec.diameter / 2
         # the cable's axis rests one radius above the seabed; a walker's tow point is higher,
         # and the steady state then lays the cable at the tow point's height, from where it

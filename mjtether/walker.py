@@ -23,7 +23,7 @@ from .rigidbody import RigidBodyHydro
 ASSETS = Path(__file__).resolve().parents[1] / "assets" / "walker"
 LEGS = ("lf", "lm", "lr", "rf", "rm", "rr")
 TRIPOD_A = ("lf", "rm", "lr")
-COXA, FEMUR, TIBIA, FOOT_RADIUS = 0.15, 0.5, 0.8, 0.08
+COXA, FEMUR, TIBIA = 0.15, 0.5, 0.8  # link lengths (m); the foot sphere centre ends the tibia
 MASS = 650.0  # kg in air
 
 HYDRO = RigidBodyHydro(

@@ -122,14 +122,14 @@ class _Cable:
         f[:, 2] += (rho * self.A * l_wet - self.mu * self.l) * self.g
         return f
 
-    def march(self, x0, P0, n_elem=None, stop_on_touchdown=False, iterations=2):
-        """March ``n_elem`` elements from node positions ``x0`` with forces ``P0`` (K, 3).
+    def march(self, x0, P0, stop_on_touchdown=False, iterations=2):
+        """March the N elements from node positions ``x0`` with forces ``P0`` (K, 3).
 
         Returns (nodes (K, n+1, 3), tension (K, n), P (K, n+1, 3)). With
         ``stop_on_touchdown`` the march of each shot also records the first element where the
         vertical component of P becomes >= 0 (returned as the fourth item, -1 if never).
         """
-        n = self.N if n_elem is None else n_elem
+        n = self.N
         K = x0.shape[0]
         X = np.empty((K, n + 1, 3))
         P = np.empty((K, n + 1, 3))
