@@ -139,6 +139,8 @@ class BoundTether:
         if not (np.isfinite(L) and L > 0):
             raise ValueError(f"length must be a finite number > 0 m, got {length!r}")
         l = L / self.N
+        if l == self.segment_length:
+            return  # (a fixed winch calls this every step)
         r = l / self._l0
         s = self.spec
         model.flexedge_length0[self._edges] = l
