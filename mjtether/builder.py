@@ -143,7 +143,7 @@ def axial_params(EA: float | None, segment_length: float, node_mass: float, time
         # omega^2 = omega_phys^2 x / (r (1 - x) + x) with r = a_true / a_hat; solve for x
         r = a_true / a_hat
         x = r * q / (1.0 + q * (r - 1.0))
-        d = float(np.clip(1.0 - x, MIN_IMP, MAX_IMP))
+        d = min(max(1.0 - x, MIN_IMP), MAX_IMP)
         x = 1.0 - d
         S = K * x * a_hat
         c = a_true / (d * a_true + x * a_hat)

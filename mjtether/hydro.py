@@ -34,6 +34,8 @@ def element_geometry(x: np.ndarray):
 def wet_fraction(z0: np.ndarray, z1: np.ndarray):
     """Submerged fraction of straight elements with end heights z0, z1 (m), and the position
     (0 at node i, 1 at node i+1) of the centre of the wetted part."""
+    if z0.max() <= 0.0 and z1.max() <= 0.0:  # the usual case: the whole line is under water
+        return np.ones_like(z0), np.full_like(z0, 0.5)
     lo = np.minimum(z0, z1)
     hi = np.maximum(z0, z1)
     span = hi - lo
@@ -67,25 +69,24 @@ def tether_loads(
         rho_fn(z) -> rho (kg/m^3), current_fn(z) -> u (m/s, shape z.shape + (3,)).
     """
     _, _, t = element_geometry(x)
-    xc = 0.5 * (x[1:] + x[:-1])
-    vc = 0.5 * (v[1:] + v[:-1])
-    zc = np.minimum(xc[:, 2], 0.0)
+    zc = np.minimum(0.5 * (x[1:, 2] + x[:-1, 2]), 0.0)
     frac, centre = wet_fraction(x[:-1, 2], x[1:, 2])
     rho = rho_fn(zc)
-    l_wet = segment_length * frac
-
-    vrel = current_fn(zc) - vc
+    vrel = current_fn(zc)
+    vrel -= 0.5 * (v[1:] + v[:-1])
     vt_mag = np.einsum("ij,ij->i", vrel, t)
     vt = vt_mag[:, None] * t
     vn = vrel - vt
     vn_mag = np.sqrt(np.einsum("ij,ij->i", vn, vn))
-    q = 0.5 * rho * l_wet * diameter
-    f_elem = (q * cd_normal * vn_mag)[:, None] * vn + (q * np.pi * cd_tangential * np.abs(vt_mag))[:, None] * vt
-
-    fb = rho * gravity * (np.pi * diameter**2 / 4.0) * l_wet
-    f = np.zeros_like(x)
-    half = 0.5 * f_elem
-    f[:-1] += half
+    # each of the element's two nodes takes half of its drag: q = 1/2 (1/2 rho d l_wet)
+    q = (0.25 * segment_length * diameter) * rho * frac
+    vn *= (q * cd_normal * vn_mag)[:, None]
+    vt *= (q * np.pi * cd_tangential * np.abs(vt_mag))[:, None]
+    half = vn + vt
+    fb = (gravity * np.pi * diameter**2 / 4.0 * segment_length) * rho * frac
+    f = np.empty_like(x)
+    f[:-1] = half
+    f[-1] = 0.0
     f[1:] += half
     f[:-1, 2] += (1.0 - centre) * fb
     f[1:, 2] += centre * fb
@@ -145,13 +146,14 @@ def rigid_body_loads(
         angular_drag: c_k (N m s^2) per body axis, M_k = -c_k |w_k| w_k.
     """
     z = min(float(p_cob[2]), 0.0)
-    frac = float(np.clip(0.5 - p_cob[2] / height, 0.0, 1.0)) if height > 0 else float(p_cob[2] <= 0)
-    rho = float(rho_fn(np.array([z]))[0])
-    u = current_fn(np.array([z]))[0]
-    vrel_b = R.T @ (u - v_cob)
-    f_b = 0.5 * rho * frac * drag_cd * drag_area * np.abs(vrel_b) * vrel_b
+    frac = min(max(0.5 - p_cob[2] / height, 0.0), 1.0) if height > 0 else float(p_cob[2] <= 0)
+    zz = np.array([z])
+    rho = float(rho_fn(zz)[0])
+    u = current_fn(zz)[0]
+    vrel_b = (u - v_cob) @ R  # R^T (u - v)
+    f_b = (0.5 * rho * frac) * drag_cd * drag_area * np.abs(vrel_b) * vrel_b
     force = R @ f_b
     force[2] += rho * gravity * volume * frac
-    w_b = R.T @ omega
-    torque = R @ (-angular_drag * np.abs(w_b) * w_b * frac)
+    w_b = omega @ R
+    torque = R @ (-frac * angular_drag * np.abs(w_b) * w_b)
     return force, torque

@@ -118,7 +118,8 @@ class BoundBodyHydro:
         p = data.xpos[self.id] + R @ self._cob
         mujoco.mj_objectVelocity(model, data, mujoco.mjtObj.mjOBJ_BODY, self.id, self._vel, 0)
         w, v0 = self._vel[:3], self._vel[3:]
-        v = v0 + np.cross(w, p - data.xpos[self.id])
+        rx, ry, rz = p - data.xpos[self.id]  # v at the centre of buoyancy = v0 + w x r
+        v = v0 + (w[1] * rz - w[2] * ry, w[2] * rx - w[0] * rz, w[0] * ry - w[1] * rx)
         f, tq = rigid_body_loads(R, p, v, w, volume=self.hydro.volume, height=self.hydro.height,
                                  drag_cd=self._cd, drag_area=self._area, angular_drag=self._ang,
                                  rho_fn=self.water.rho, current_fn=self.water.velocity,

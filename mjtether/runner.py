@@ -263,8 +263,7 @@ class ScenarioRun:
             return
         self._since_control += dt
         if self._since_control >= 1.0 / CONTROL_HZ - 1e-9:
-            for a, q in self.gait.targets(self._since_control, speed, turn_rate).items():
-                self.sim.data.ctrl[a] = q
+            self.sim.data.ctrl[self.gait.actuators] = self.gait.targets(self._since_control, speed, turn_rate)
             self._since_control = 0.0
 
     def robot_state(self):

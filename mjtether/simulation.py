@@ -8,6 +8,8 @@ registers its force providers with the process-wide passive callback
 
 from __future__ import annotations
 
+import math
+
 import mujoco
 import numpy as np
 
@@ -19,6 +21,10 @@ from .water import WaterColumn
 
 
 _EQUALITY = int(mujoco.mjtConstraint.mjCNSTR_EQUALITY)  # an int: comparing arrays with the enum is slow
+MASS_REFRESH = 1e-4
+"""Relative change of the deployed length after which ``set_length`` refreshes node masses."""
+_BADQPOS, _BADQVEL, _BADQACC = (int(w) for w in (mujoco.mjtWarning.mjWARN_BADQPOS, mujoco.mjtWarning.mjWARN_BADQVEL,
+                                                  mujoco.mjtWarning.mjWARN_BADQACC))
 
 
 class SimulationDiverged(RuntimeError):
@@ -42,11 +48,15 @@ class BoundTether:
         edgeadr = model.flex_edgeadr[fid]
         # rest length of every element is the material length l, whatever the initial shape
         model.flexedge_length0[edgeadr:edgeadr + N] = s.segment_length
+        self._row_cache: dict[int, slice] = {}
         self.eq_id = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_EQUALITY, tm.edge_equality)
         self.connect_ids = {k: mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_EQUALITY, v)
                             for k, v in tm.connects.items()}
         bids = [mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, b) for b in tm.node_bodies]
         self.dofs = np.concatenate([model.body_dofadr[b] + np.arange(3) for b in bids])
+        # node dofs are contiguous (one body after another): a slice is faster to write through
+        if np.all(np.diff(self.dofs) == 1):
+            self.dofs = slice(int(self.dofs[0]), int(self.dofs[-1]) + 1)
         self.qpos_adr = np.concatenate([model.jnt_qposadr[model.body_jntadr[b]] + np.arange(3) for b in bids])
         m_eff = s.mu * s.segment_length + tm.added_mass[N // 2]  # interior node, mass + armature
         # retune the edge constraint with the diagA MuJoCo actually uses for interior edges
@@ -65,7 +75,7 @@ class BoundTether:
         self._armature0 = model.dof_armature[self.dofs].copy()
         self._m_eff0 = m_eff
         self._diag0 = float(diag)
-        self.segment_length = s.segment_length
+        self.segment_length = self._l_mass = s.segment_length
         make_not_simple(model, self._bids)  # masses and armature change with the deployed length
 
     # ----------------------------------------------------------------- forces
@@ -106,15 +116,24 @@ class BoundTether:
         """Node positions (m, world frame), shape (N+1, 3), node 0 at the ship."""
         return data.flexvert_xpos[self.vertadr:self.vertadr + self.N + 1].copy()
 
-    @staticmethod
-    def _rows(data: mujoco.MjData, eq_id: int) -> np.ndarray:
-        n = data.nefc  # (the efc arrays are allocated longer than the active rows)
-        return np.nonzero((data.efc_type[:n] == _EQUALITY) & (data.efc_id[:n] == eq_id))[0]
+    def _rows(self, data: mujoco.MjData, eq_id: int) -> slice:
+        """The constraint rows of equality ``eq_id``: a contiguous block that MuJoCo places
+        among the equality rows at the top of efc_*; cached, and checked at its ends."""
+        r = self._row_cache.get(eq_id)
+        t, i, n = data.efc_type, data.efc_id, data.nefc
+        if r is None or not (r.stop <= n and t[r.start] == _EQUALITY and i[r.start] == eq_id
+                             and t[r.stop - 1] == _EQUALITY and i[r.stop - 1] == eq_id
+                             and (r.start == 0 or t[r.start - 1] != _EQUALITY or i[r.start - 1] != eq_id)
+                             and (r.stop == n or t[r.stop] != _EQUALITY or i[r.stop] != eq_id)):
+            rows = np.nonzero((t[:n] == _EQUALITY) & (i[:n] == eq_id))[0]
+            r = slice(int(rows[0]), int(rows[-1]) + 1) if len(rows) else slice(0, 0)
+            self._row_cache[eq_id] = r
+        return r
 
     def tension(self, data: mujoco.MjData) -> np.ndarray:
         """Axial tension of each element (N), shape (N,); negative means compression."""
         rows = self._rows(data, self.eq_id)
-        if len(rows) != self.N:
+        if rows.stop - rows.start != self.N:
             raise RuntimeError("tether tension is available after mj_forward/mj_step")
         return -data.efc_force[rows]
 
@@ -133,7 +152,10 @@ class BoundTether:
         Every element takes the length L / N (the variable-segment-length approach of Khan et
         al. 2023, Table 6): rest lengths, node masses, added mass and the axial constraint all
         scale with it, so the cable's mass follows its length and its stiffness stays EA. A
-        change of a small fraction of an element per step adds no tension of its own.
+        change of a small fraction of an element per step adds no tension of its own. Rest
+        lengths follow every call; masses and the constraint's tuning are refreshed once the
+        length has moved by MASS_REFRESH of itself since their last refresh (their error is
+        then below that fraction, and a winch paying out every step costs little).
         """
         L = float(length)
         if not (np.isfinite(L) and L > 0):
@@ -141,9 +163,15 @@ class BoundTether:
         l = L / self.N
         if l == self.segment_length:
             return  # (a fixed winch calls this every step)
+        model.flexedge_length0[self._edges] = l
+        self.segment_length = l
+        if abs(l - self._l_mass) > MASS_REFRESH * self._l_mass:
+            self._refresh_mass(model)
+
+    def _refresh_mass(self, model: mujoco.MjModel) -> None:
+        l = self.segment_length
         r = l / self._l0
         s = self.spec
-        model.flexedge_length0[self._edges] = l
         model.body_mass[self._bids] = self._mass0 * r
         model.body_inertia[self._bids] = self._inertia0 * r
         model.dof_armature[self.dofs] = self._armature0 * r
@@ -151,7 +179,7 @@ class BoundTether:
                                      diag_a=self._diag0 / r)
         model.eq_solref[self.eq_id] = self.tm.axial.solref
         model.eq_solimp[self.eq_id] = self.tm.axial.solimp
-        self.segment_length = l
+        self._l_mass = l
 
     def end_force(self, data: mujoco.MjData, which: str = "start") -> np.ndarray:
         """Force of the tether on its ``"start"`` (ship) or ``"end"`` (robot) support (N, world):
@@ -165,7 +193,8 @@ class BoundTether:
 
     def end_tension(self, data: mujoco.MjData, which: str = "start") -> float:
         """Magnitude of ``end_force`` (N)."""
-        return float(np.linalg.norm(self.end_force(data, which)))
+        f = self.end_force(data, which)
+        return math.sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]) if len(f) == 3 else 0.0
 
 
 class Simulation:
@@ -240,8 +269,11 @@ class Simulation:
 
     def check(self) -> None:
         d = self.data
-        bad = d.warning[mujoco.mjtWarning.mjWARN_BADQACC].number
-        if bad > self._bad_acc0 or not (np.isfinite(d.qpos).all() and np.isfinite(d.qvel).all()):
+        # MuJoCo checks qpos, qvel and qacc for NaN or > 1e10 at every step; it warns and (by
+        # default) resets the state, which would otherwise hide the blow-up
+        w = d.warning
+        bad = w[_BADQPOS].number + w[_BADQVEL].number + w[_BADQACC].number
+        if bad > self._bad_acc0 or not math.isfinite(d.qvel[0] + d.qpos[0]):
             self._bad_acc0 = bad
             raise SimulationDiverged(
                 f"simulation diverged at t = {d.time:.3f} s (time step {self.timestep:g} s); "

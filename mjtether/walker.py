@@ -49,7 +49,7 @@ def leg_ik(p) -> tuple[float, float, float]:
     r = math.hypot(x, y) - COXA
     D = math.hypot(r, z)
     if not abs(FEMUR - TIBIA) < D < FEMUR + TIBIA:
-        raise ValueError(f"leg_ik: foot target {p} is out of reach")
+        raise ValueError(f"leg_ik: foot target {[x, y, z]} is out of reach")
     gamma = math.acos((FEMUR**2 + D * D - TIBIA**2) / (2 * FEMUR * D))
     a1 = math.atan2(z, r) + gamma
     a2 = math.atan2(z - FEMUR * math.sin(a1), r - FEMUR * math.cos(a1))
@@ -82,36 +82,41 @@ class Tripod:
 
     def bind(self, model: mujoco.MjModel, prefix: str = "") -> "Tripod":
         """Read hip poses and actuator indices from a compiled model."""
-        legs = {}
+        legs, acts = [], []
         for leg in LEGS:
             b = model.body(f"{prefix}leg_{leg}")
             yaw = 2 * math.atan2(b.quat[3], b.quat[0])
-            hip = np.array(b.pos)
-            R = np.array([[math.cos(yaw), -math.sin(yaw), 0], [math.sin(yaw), math.cos(yaw), 0], [0, 0, 1]])
-            neutral = hip + R @ np.array([COXA + FEMUR, 0.0, -TIBIA])
-            act = [model.actuator(f"{prefix}{leg}_{j}").id for j in ("coxa", "femur", "tibia")]
-            legs[leg] = (hip, R, neutral, act, 0.0 if leg in TRIPOD_A else 0.5)
+            hx, hy, hz = (float(c) for c in b.pos)
+            c, s = math.cos(yaw), math.sin(yaw)
+            reach = COXA + FEMUR  # neutral foot: straight out of the hip, TIBIA below it
+            legs.append((hx, hy, hz, c, s, hx + c * reach, hy + s * reach, hz - TIBIA,
+                         0.0 if leg in TRIPOD_A else 0.5))
+            acts += [model.actuator(f"{prefix}{leg}_{j}").id for j in ("coxa", "femur", "tibia")]
         self._legs = legs
+        self.actuators = np.array(acts)
         return self
 
-    def targets(self, dt: float, speed: float, turn_rate: float) -> dict:
-        """Advance the phase by ``dt`` (s) and return {actuator id: target angle (rad)}."""
+    def targets(self, dt: float, speed: float, turn_rate: float) -> list:
+        """Advance the phase by ``dt`` (s) and return the 18 target angles (rad) of
+        ``self.actuators`` (leg by leg in ``LEGS`` order: coxa, femur, tibia). Scalar code:
+        six legs are too few for NumPy to pay off, and this runs at the control rate."""
+        if self._legs is None:
+            raise RuntimeError("Tripod.bind(model) first")
         self.phase = (self.phase + dt / self.period) % 1.0
         half = self.period / 2
-        out = {}
-        for hip, R, neutral, act, offset in self._legs.values():
-            s = (self.phase + offset) % 1.0
-            vel = np.array([speed - turn_rate * neutral[1], turn_rate * neutral[0], 0.0])
-            d = vel * half
-            n = np.linalg.norm(d)
+        out = []
+        for hx, hy, hz, c, s, nx, ny, nz, offset in self._legs:
+            ph = (self.phase + offset) % 1.0
+            # stance stroke over half a cycle: the body's velocity at the foot, clipped
+            dx, dy = (speed - turn_rate * ny) * half, turn_rate * nx * half
+            n = math.hypot(dx, dy)
             if n > self.max_stride:
-                d *= self.max_stride / n
-            if s < 0.5:  # stance
-                foot = neutral + (0.5 - 2 * s) * d
+                dx, dy = dx * self.max_stride / n, dy * self.max_stride / n
+            if ph < 0.5:  # stance
+                a, lift = 0.5 - 2 * ph, 0.0
             else:  # swing
-                sig = 2 * s - 1
-                foot = neutral + (sig - 0.5) * d + np.array([0.0, 0.0, self.step_height * math.sin(math.pi * sig)])
-            q = leg_ik(R.T @ (foot - hip))
-            for a, v in zip(act, q):
-                out[a] = v
+                sig = 2 * ph - 1
+                a, lift = sig - 0.5, self.step_height * math.sin(math.pi * sig)
+            fx, fy, fz = nx + a * dx - hx, ny + a * dy - hy, nz + lift - hz
+            out += leg_ik((c * fx + s * fy, -s * fx + c * fy, fz))  # R^T (foot - hip)
         return out

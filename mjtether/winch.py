@@ -7,9 +7,13 @@ deployed length integrates it and stays within [min_length, max_length]. Modes:
 * ``"fixed"``: no payout;
 * ``"constant"``: payout (or reel-in, if negative) at ``rate``;
 * ``"follow"``: payout at the robot's speed, V_po = v_r (Khan et al. 2023, Eqs. 30-33);
-* ``"tension"``: keep the ship-end tension inside ``band`` = (low, high) N: pay out at
-  ``max_rate`` above the band, reel in at ``max_rate`` below it, with a linear ramp over the
-  outer 10 % of the band so that the rate does not chatter;
+* ``"tension"``: keep the ship-end tension inside ``band`` = (low, high) N, as a constant-
+  tension winch does: a PI regulator on the tension, low-pass filtered over ``TENSION_FILTER_S``
+  (the gait and the cable's own vibration make it ripple), towards the band's centre. The
+  proportional part pays out at ``max_rate`` when the tension reaches the band's upper edge
+  (reels in at the lower); the integral part (time ``TENSION_INTEGRAL_S``) learns the steady
+  payout a moving robot or ship needs, so that the tension settles inside the band rather than
+  at its edge;
 * ``"external"``: the rate last given to ``command`` (e.g. by a Gymnasium agent);
 * ``"free"``: a free drum paying out at (nearly) zero tension (the drum-end boundary condition
   T = 0 of 001_b2e5865470dbf5d1.txt): payout at tension / ``drum_damping`` (N s/m), limited to
@@ -27,6 +31,16 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import _checks
+
+
+def _clip(x: float, lo: float, hi: float) -> float:
+    return float(min(max(x, lo), hi))
+
+
+TENSION_FILTER_S = 2.0
+"""Time constant (s) of the low-pass filter on the tension that the ``"tension"`` mode uses."""
+TENSION_INTEGRAL_S = 3.0
+"""Integral time (s) of the ``"tension"`` mode's PI regulator."""
 
 MODES = ("fixed", "constant", "follow", "tension", "external", "free")
 
@@ -65,11 +79,13 @@ class Winch:
         self.band = (lo, hi)
         _checks.positive("winch.drum_damping", self.drum_damping, "N s/m")
         self._command = 0.0
+        self._tension = None  # filtered tension (N), "tension" mode
+        self._integral = 0.0  # integral part of the payout rate (m/s), "tension" mode
         self.current_rate = 0.0  # m/s, the drum's payout rate now
 
     def command(self, rate: float) -> None:
         """Set the payout rate (m/s) of the ``"external"`` mode; clipped to +-max_rate."""
-        self._command = float(np.clip(_checks.finite("winch command", rate), -self.max_rate, self.max_rate))
+        self._command = _clip(_checks.finite("winch command", rate), -self.max_rate, self.max_rate)
 
     def payout_rate(self, t: float, tension: float, robot_speed: float) -> float:
         """Payout rate (m/s) for the current state, before the length limits."""
@@ -84,19 +100,26 @@ class Winch:
             r = self._command
         elif m == "free":
             r = max(tension, 0.0) / self.drum_damping
-        else:  # tension band
-            lo, hi = self.band
-            ramp = 0.1 * (hi - lo)
-            if tension > hi - ramp:
-                r = self.max_rate * min((tension - (hi - ramp)) / ramp, 1.0)
-            elif tension < lo + ramp:
-                r = -self.max_rate * min(((lo + ramp) - tension) / ramp, 1.0)
-            else:
-                r = 0.0
-        return float(np.clip(r, -self.max_rate, self.max_rate))
+        else:  # tension band: PI on the (filtered) tension, see the module docstring
+            r = self.max_rate * self._band_error(tension) + self._integral
+        return _clip(r, -self.max_rate, self.max_rate)
+
+    def _band_error(self, tension: float) -> float:
+        """Tension error relative to the band: 0 at its centre, +-1 at its edges."""
+        lo, hi = self.band
+        if not np.isfinite(hi):  # an open band: regulate to stay above lo
+            return min(tension - lo, 0.0) / max(lo, 1.0)
+        return (tension - 0.5 * (lo + hi)) / (0.5 * (hi - lo))
 
     def advance(self, dt: float, t: float, tension: float, robot_speed: float = 0.0) -> float:
         """Integrate the deployed length over ``dt`` (s); returns the new length (m)."""
+        if self.mode == "tension":
+            self._tension = tension if self._tension is None else \
+                self._tension + min(dt / TENSION_FILTER_S, 1.0) * (tension - self._tension)
+            tension = self._tension
+            # integral part, clamped to the drum's rate (anti-windup)
+            self._integral = _clip(self._integral + dt / TENSION_INTEGRAL_S * self.max_rate * self._band_error(tension),
+                                   -self.max_rate, self.max_rate)
         want = self.payout_rate(t, tension, robot_speed)
         # brake in time for the length limits (on a curve a little gentler than max_accel, so the
         # acceleration-limited rate can follow it to zero), then limit the acceleration
@@ -106,6 +129,6 @@ class Winch:
         else:
             want = max(want, -np.sqrt(2.0 * a_brake * max(self.length - self.min_length, 0.0)))
         step = self.max_accel * dt
-        self.current_rate = float(np.clip(want, self.current_rate - step, self.current_rate + step))
-        self.length = float(np.clip(self.length + self.current_rate * dt, self.min_length, self.max_length))
+        self.current_rate = _clip(want, self.current_rate - step, self.current_rate + step)
+        self.length = _clip(self.length + self.current_rate * dt, self.min_length, self.max_length)
         return self.length

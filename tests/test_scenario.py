@@ -1,5 +1,6 @@
 """Scenario files, the runner and `mjtether run` / `mjtether solve`."""
 
+import functools
 import json
 
 import numpy as np
@@ -204,14 +205,17 @@ commands = [[0.0, 0.5, 0.0]]
 """
 
 
+@functools.lru_cache(maxsize=None)
+def _walk(winch: str, extra: str = "") -> np.ndarray:
+    text = WALK.format(length=122.0, winch=winch).replace('max_length = 400.0', 'max_length = 400.0' + extra)
+    return run(load_scenario(text=text))[0]
+
+
 def test_slow_payout_slows_the_walker_and_the_tow_force_opposes_it():
     """The walker sets off at 0.5 m/s with the winch paying out at its speed (Eq. 30), and
     again with the winch fixed and only 5 m of slack: the tether then pulls back on the tow
     point (negative body-x force, growing) and the walker covers measurably less ground."""
-    out = {}
-    for winch in ("follow", "fixed"):
-        rows, _, _ = run(load_scenario(text=WALK.format(length=122.0, winch=winch)))
-        out[winch] = rows
+    out = {winch: _walk(winch) for winch in ("follow", "fixed")}
     dist = {k: r[-1, 19] - r[0, 19] for k, r in out.items()}
     assert dist["fixed"] < 0.9 * dist["follow"]
     assert dist["follow"] == pytest.approx(0.5 * 40.0, rel=0.1)
@@ -219,3 +223,20 @@ def test_slow_payout_slows_the_walker_and_the_tow_force_opposes_it():
     assert tow_x["fixed"][-10:].mean() < 2.0 * tow_x["follow"][-10:].mean() < 0.0
     tow = out["fixed"][:, 5]
     assert tow[-1] > 3.0 * tow[4]  # tow-point tension rises as the walker moves away
+
+
+def test_tension_band_mode_holds_the_band_behind_the_walker():
+    """The same walk with the winch regulating the ship-end tension into [0.9, 1.4] times its
+    initial value. With the length fixed the tension leaves the band (by more than 50 %); with
+    regulation every sample after the first 5 s (the regulator's filter and integral settling) is
+    inside it, with 2 % slack. The band is wide because each stride of the walker sends a ripple
+    of about +-130 N (one standard deviation) up the cable, which no winch can follow."""
+    fixed = _walk("fixed")
+    t0 = fixed[0, 1]
+    lo, hi = 0.9 * t0, 1.4 * t0
+    assert fixed[:, 1].max() > 1.5 * hi
+    rows = _walk("tension", f'\nband = [{lo}, {hi}]\nmax_rate = 1.0')
+    t = rows[rows[:, 0] >= 5.0, 1]
+    assert t.min() >= 0.98 * lo and t.max() <= 1.02 * hi
+    # it holds the band by paying out behind the walker (10 m in 40 s seen)
+    assert rows[-1, 15] > rows[0, 15] + 5.0 and rows[-1, 16] > 0.2

@@ -25,13 +25,11 @@ def _walk(speed, turn_rate, duration, sample_every=100):
         gait = Tripod().bind(m)
         torso, dt = m.body("torso").id, m.opt.timestep
         for _ in range(int(1.0 / dt)):  # settle on the seabed, stepping in place
-            for a, q in gait.targets(dt, 0.0, 0.0).items():
-                d.ctrl[a] = q
+            d.ctrl[gait.actuators] = gait.targets(dt, 0.0, 0.0)
             sim.step()
         track = [d.xpos[torso].copy()]
         for k in range(int(round(duration / dt))):
-            for a, q in gait.targets(dt, speed, turn_rate).items():
-                d.ctrl[a] = q
+            d.ctrl[gait.actuators] = gait.targets(dt, speed, turn_rate)
             sim.step()
             if (k + 1) % sample_every == 0:
                 track.append(d.xpos[torso].copy())

@@ -6,6 +6,7 @@ from conftest import new_spec
 
 import mjtether as mt
 from mjtether.quasistatic import steady_state
+from mjtether.simulation import MASS_REFRESH
 
 
 def run_winch(w, seconds, dt=0.01, tension=0.0, speed=0.0):
@@ -22,11 +23,12 @@ def test_winch_modes():
     assert run_winch(w, 10.0, speed=0.3) == pytest.approx(103.0, abs=0.01)
     w = mt.Winch(length=100.0, mode="fixed")
     assert run_winch(w, 10.0, tension=1e6) == 100.0
-    # tension band: pays out above, reels in below, holds inside
+    # tension band: pays out above, reels in below, proportionally to the tension's distance
+    # from the band's centre (before any integral action)
     w = mt.Winch(length=100.0, mode="tension", band=(100.0, 200.0), max_rate=1.0, max_length=200.0, min_length=50.0)
     assert w.payout_rate(0, 250.0, 0) == 1.0 and w.payout_rate(0, 50.0, 0) == -1.0
     assert w.payout_rate(0, 150.0, 0) == 0.0
-    assert w.payout_rate(0, 195.0, 0) == pytest.approx(0.5)  # the ramp over the outer 10 %
+    assert w.payout_rate(0, 195.0, 0) == pytest.approx(0.9)
     w = mt.Winch(length=100.0, mode="external", max_rate=1.0)
     w.command(5.0)
     assert w.payout_rate(0, 0, 0) == 1.0
@@ -61,7 +63,7 @@ def test_payout_has_no_tension_spikes_and_ends_at_the_steady_state():
     every 0.05 s, never changes by more than 5 % from one sample to the next (2.96 % seen, at
     the start of the drum's acceleration; the tension falls by a quarter while the cable sinks
     through the water, which is drag, not an artefact). After 30 s at the new length it is
-    within 2 % of the steady state of 130 m. The cable's mass follows its length."""
+    within 2 % of the steady state of 130 m. The cable's mass follows its length (to 1e-4)."""
     dt = 0.005
     water = mt.WaterColumn(depth=200.0, current=mt.ExponentialCurrent(1.0, decay_depth=20.0))
     bottom = np.array([60.0, 0.0, -70.0])
@@ -81,7 +83,8 @@ def test_payout_has_no_tension_spikes_and_ends_at_the_steady_state():
             if (k + 1) % 10 == 0:
                 samples.append(bt.end_tension(sim.data, "start"))
         assert bt.deployed_length == pytest.approx(130.0)
-        assert sim.model.body_mass[bt._bids].sum() == pytest.approx(tether.mu * 130.0, rel=1e-12)
+        # masses are refreshed each time the length has moved by MASS_REFRESH (1e-4) of itself
+        assert sim.model.body_mass[bt._bids].sum() == pytest.approx(tether.mu * 130.0, rel=MASS_REFRESH)
     t = np.array(samples)
     assert np.abs(np.diff(t) / t[:-1]).max() < 0.05
     end = steady_state(mt.TetherSpec(length=130.0, segments=40, diameter=0.03, density=2000.0, EA=5e6),
