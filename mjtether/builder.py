@@ -161,17 +161,32 @@ TETHER_CONTACT_BIT = 2
 """contype bit of the tether; only the seabed has it in its conaffinity."""
 
 
+def seabed_height(water: WaterColumn, x, y, slope: float = 0.0, slope_heading: float = 0.0):
+    """Height z (m) of the seabed at horizontal positions ``x``, ``y`` (m, world): ``-water.depth``
+    at the origin, rising at ``slope`` (rad) towards ``slope_heading`` (rad, from +x to +y)."""
+    along = np.asarray(x, dtype=float) * math.cos(slope_heading) + np.asarray(y, dtype=float) * math.sin(slope_heading)
+    return water.seabed_z + math.tan(slope) * along
+
+
 def add_seabed(spec: mujoco.MjSpec, water: WaterColumn, *, friction: float = 0.6, size: float = 0.0,
-               rgba=(0.45, 0.4, 0.3, 1.0), name: str = "seabed") -> mujoco.MjsGeom:
-    """A flat seabed at z = -water.depth: a plane that robots (contype bit 1) and tethers built
-    with ``seabed_friction`` (bit 2) rest on. ``size`` is the half-width drawn (0: infinite)."""
+               rgba=(0.45, 0.4, 0.3, 1.0), name: str = "seabed", slope: float = 0.0,
+               slope_heading: float = 0.0) -> mujoco.MjsGeom:
+    """The seabed: a plane through z = -water.depth at the origin, tilted by ``slope`` (rad, in
+    [0, 45 deg)) so that it rises towards ``slope_heading`` (see ``seabed_height``). Robots
+    (contype bit 1) and tethers built with ``seabed_friction`` (bit 2) rest on it. ``size`` is
+    the half-width drawn (0: infinite)."""
     if not isinstance(water, WaterColumn):
         raise ValueError(f"water must be a WaterColumn, got {type(water).__name__}")
     _checks.non_negative("seabed.friction", friction)
+    _checks.in_range("seabed.slope", slope, 0.0, math.radians(45.0) - 1e-9, "rad")
+    _checks.finite("seabed.slope_heading", slope_heading)
+    # rotate +z onto the normal (-sin a cos h, -sin a sin h, cos a): by a about (sin h, -cos h, 0)
+    c, s_ = math.cos(slope / 2), math.sin(slope / 2)
+    quat = [c, s_ * math.sin(slope_heading), -s_ * math.cos(slope_heading), 0.0]
     return spec.worldbody.add_geom(
-        name=name, type=mujoco.mjtGeom.mjGEOM_PLANE, pos=[0.0, 0.0, water.seabed_z], size=[size, size, 1.0],
-        friction=[float(friction), 0.005, 0.0001], rgba=list(rgba), contype=ROBOT_CONTACT_BIT,
-        conaffinity=ROBOT_CONTACT_BIT | TETHER_CONTACT_BIT, condim=3)
+        name=name, type=mujoco.mjtGeom.mjGEOM_PLANE, pos=[0.0, 0.0, water.seabed_z], quat=quat,
+        size=[size, size, 1.0], friction=[float(friction), 0.005, 0.0001], rgba=list(rgba),
+        contype=ROBOT_CONTACT_BIT, conaffinity=ROBOT_CONTACT_BIT | TETHER_CONTACT_BIT, condim=3)
 
 
 # ------------------------------------------------------------------------------ builder

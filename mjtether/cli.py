@@ -110,11 +110,40 @@ def _solve(args) -> int:
         print(f"  force on the ship     {ss.top_force} N  (tension {ss.top_tension:.1f} N)")
         print(f"  force on the tow point {ss.bottom_force} N  (tension {ss.tow_tension:.1f} N)")
         print(f"  lowest point z = {ss.nodes[:, 2].min():.2f} m; on the seabed: {ss.laid_length:.1f} m")
-        print("  (the Khan et al. 2023 method applies to a walker moving at constant speed; "
-              "this scenario's robot is an anchor)")
+        _print_khan(r)
     finally:
         r.close()
     return 0
+
+
+def _print_khan(r) -> None:
+    """The Khan et al. (2023) method for the walker's first commanded speed: the length that
+    reaches its depth, both readings of the paper's Eqs. 22-23 (see quasistatic.khan2023)."""
+    from .quasistatic import khan2023
+
+    if not r.walker:
+        print("  (the Khan et al. 2023 method applies to a walker moving at constant speed; "
+              "this scenario's robot is an anchor)")
+        return
+    speed = float(r.commands[0, 1])
+    if speed <= 0.0:
+        print("  (the Khan et al. 2023 method applies to a walker moving away from the ship; "
+              f"the first command is {speed:g} m/s)")
+        return
+    t = r.tether_spec
+    depth = -float(r.robot_position[2])
+    print(f"Khan et al. (2023) method, walker at {speed:g} m/s, tow point at {depth:.1f} m depth (2-D, "
+          "head-on current, no seabed contact):")
+    for variant in ("printed", "consistent"):
+        try:
+            k = khan2023(diameter=t.diameter, cable_density=t.mu / t.area, water=r.water, robot_speed=speed,
+                         depth=depth, segments=t.segments, cd_normal=t.cd_normal, cd_axial=t.cd_tangential,
+                         gravity=r.water.gravity, variant=variant)
+        except (ValueError, RuntimeError) as exc:
+            print(f"  {variant:10s} no answer: {exc}")
+            continue
+        print(f"  {variant:10s} length to reach it {k.length:.1f} m, range {k.range:.1f} m, "
+              f"tow tension {k.tow_tension:.1f} N")
 
 
 if __name__ == "__main__":

@@ -164,12 +164,14 @@ class ScenarioRun:
         spec.option.timestep = dt
         spec.option.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST
         spec.modelname = "mjtether_scenario"
-        builder.add_seabed(spec, self.water, friction=sc["water"]["seabed_friction"])
+        wsc = sc["water"]
+        self.slope, self.slope_heading = wsc["seabed_slope"], wsc["seabed_slope_heading"]
+        builder.add_seabed(spec, self.water, friction=wsc["seabed_friction"], slope=self.slope,
+                           slope_heading=self.slope_heading)
         ship = spec.worldbody.add_body(name="ship", mocap=True, pos=self.ship.advance(0.0, 0.0, np.zeros(3)))
         ship.add_site(name="ship/fairlead")
         ship.add_geom(type=mujoco.mjtGeom.mjGEOM_BOX, size=[4.0, 1.5, 1.0], pos=[0, 0, 1.0], contype=0,
                       conaffinity=0, rgba=[0.8, 0.8, 0.85, 1])
-        seabed_z = self.water.seabed_z
         radius = self.tether_spec.diameter / 2
         r = sc["robot"]
         self.walker = r["type"] == "walker"
@@ -177,8 +179,14 @@ class ScenarioRun:
         if self.walker:
             x, y = r["start"]
             yaw = r["heading"]
-            frame = spec.worldbody.add_frame(pos=[x, y, seabed_z + WALKER_STAND_HEIGHT],
-                                             quat=[math.cos(yaw / 2), 0.0, 0.0, math.sin(yaw / 2)])
+            # stand it at its height over the seabed, its legs square to a sloped seabed
+            tilt = np.array(spec.geom("seabed").quat)
+            quat = np.zeros(4)
+            mujoco.mju_mulQuat(quat, tilt, [math.cos(yaw / 2), 0.0, 0.0, math.sin(yaw / 2)])
+            normal = np.zeros(9)
+            mujoco.mju_quat2Mat(normal, tilt)
+            pos = np.array([x, y, self.seabed_z(x, y)]) + WALKER_STAND_HEIGHT * normal[[2, 5, 8]]
+            frame = spec.worldbody.add_frame(pos=pos, quat=quat)
             frame.attach_body(walker_spec().body("torso"), "walker/", "")
             bodies.append(add_body_hydro(spec, "walker/torso", WALKER_HYDRO))
             end = builder.SitePoint("walker/tow_point")
@@ -188,7 +196,7 @@ class ScenarioRun:
         else:
             robot = np.array(r["position"], dtype=float)
             # a tow point on the seabed holds the cable's axis one radius above it
-            robot[2] = max(robot[2], seabed_z + radius)
+            robot[2] = max(robot[2], self.seabed_z(robot[0], robot[1]) + radius / math.cos(self.slope))
             end = builder.FixedPoint(robot)
         self.robot_position = robot
         top = np.array(spec.body("ship").pos)
@@ -214,6 +222,10 @@ class ScenarioRun:
         self.ship_mocap = m.body("ship").mocapid[0]
         self.rated_load = sc["tether"]["rated_load"]
 
+    def seabed_z(self, x, y):
+        """Height (m) of the (possibly sloped) seabed at ``x``, ``y`` (m)."""
+        return builder.seabed_height(self.water, x, y, self.slope, self.slope_heading)
+
     def _initial_state(self, top, robot, dt):
         """The quasi-static steady state to start from (with the tow point on the seabed the
         seabed is taken one cable radius lower, where the cable's axis lies), or ``None`` and
@@ -222,31 +234,41 @@ class ScenarioRun:
         # the cable's axis rests one radius above the seabed; a walker's tow point is higher,
         # and the steady state then lays the cable at the tow point's height, from where it
         # drops onto the seabed in the first second
-        depth = min(self.water.depth - radius, -robot[2])
+        # (on a sloped seabed: a flat one at the depth under the tow point, kept if the line it
+        # gives stays clear of the slope)
+        depth = min(-self.seabed_z(robot[0], robot[1]) - radius, -robot[2])
         water = wm.WaterColumn(depth=depth, density=self.water.density,
                                current=self.water.current, gravity=self.water.gravity)
         try:
             ss = initial_state(self.tether_spec, water, top, robot, timestep=dt, seabed=True,
                                seabed_friction=self.sc["tether"]["seabed_friction"])
-            return ss, "quasi-static steady state"
         except (RuntimeError, ValueError) as exc:
             return None, f"a hanging and laid line (no steady state: {exc})"
+        x = ss.nodes
+        below = float(np.max(self.seabed_z(x[:, 0], x[:, 1]) + radius - x[:, 2]))
+        if below > self.tether_spec.diameter:
+            return None, f"a hanging and laid line (the steady state crosses the sloped seabed by {below:.2f} m)"
+        return ss, "quasi-static steady state"
 
     def _fallback_nodes(self, top, robot) -> np.ndarray:
         """A start that stays above the seabed when there is no steady state: the cable hangs
         straight down from the ship to the seabed, then runs along it to the tow point, with any
         excess length laid as a sideways detour (a slack tether coils on the bottom)."""
         L, N = self.tether_spec.length, self.tether_spec.segments
-        floor = self.water.seabed_z + self.tether_spec.diameter / 2
-        a = np.array([top[0], top[1], floor])
-        run = np.array([robot[0] - a[0], robot[1] - a[1], 0.0])
-        span = float(np.linalg.norm(run))
-        drop = top[2] - floor
-        excess = L - drop - span - (robot[2] - floor)
-        side = np.array([-run[1], run[0], 0.0]) / max(span, 1e-9) if span > 1e-9 else np.array([0.0, 1.0, 0.0])
-        b = robot - np.array([0.0, 0.0, robot[2] - floor])
-        pts = [top, a] + ([a + side * excess / 2, b + side * excess / 2] if excess > 0 else []) + [b, robot]
-        pts = np.array(pts)
+        lift = self.tether_spec.diameter / 2 / math.cos(self.slope)  # the cable's axis over the seabed
+
+        def on_floor(p):
+            return np.array([p[0], p[1], float(self.seabed_z(p[0], p[1])) + lift])
+
+        a = on_floor(top)
+        b = on_floor(robot)
+        run = np.array([b[0] - a[0], b[1] - a[1], 0.0])
+        span = float(np.linalg.norm(b - a))
+        excess = L - (top[2] - a[2]) - span - (robot[2] - b[2])
+        side = np.array([-run[1], run[0], 0.0]) / max(np.linalg.norm(run), 1e-9) if span > 1e-9 \
+            else np.array([0.0, 1.0, 0.0])
+        detour = [on_floor(a + side * excess / 2), on_floor(b + side * excess / 2)] if excess > 0 else []
+        pts = np.array([top, a, *detour, b, robot])
         seg = np.linalg.norm(np.diff(pts, axis=0), axis=1)
         s = np.r_[0.0, np.cumsum(seg)]
         u = np.linspace(0.0, s[-1], N + 1)
@@ -296,9 +318,8 @@ class ScenarioRun:
         fs = self.bt.end_force(d, "start")
         fe = self.bt.end_force(d, "end")
         x = self.bt.nodes(d)
-        seabed = self.water.seabed_z
         diam = self.tether_spec.diameter
-        on = x[:, 2] < seabed + diam
+        on = x[:, 2] < self.seabed_z(x[:, 0], x[:, 1]) + diam
         on_bottom = self.bt.segment_length * float(np.sum(on[1:] & on[:-1]))
         ship = d.mocap_pos[self.ship_mocap]
         tow, yaw, speed, R = self.robot_state()

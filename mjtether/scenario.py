@@ -43,6 +43,10 @@ SCHEMA: dict[str, dict[str, Key]] = {
     "water": {
         "depth": Key("float", 200.0, 0.1, 12000.0, "m", "seabed depth (positive)"),
         "seabed_friction": Key("float", 0.6, 0.0, 5.0, "", "Coulomb friction of the seabed (robot feet)"),
+        "seabed_slope": Key("float", 0.0, 0.0, 0.5, "rad", "seabed slope (0.1745 rad = 10 deg); depth is the "
+                            "depth at x = y = 0"),
+        "seabed_slope_heading": Key("float", 0.0, -2 * math.pi, 2 * math.pi, "rad",
+                                    "direction in which the seabed rises, from +x towards +y"),
     },
     "water.density": {
         "type": Key("str", "constant", doc="constant, linear or table", choices=("constant", "linear", "table")),
@@ -215,25 +219,37 @@ def _cross_checks(name: str, sc: dict) -> None:
     def bad(msg):
         raise ScenarioError(f"{name}: {msg}")
 
-    depth = sc["water"]["depth"]
+    w = sc["water"]
     robot = sc["robot"]
+
+    def seabed_z(x, y):
+        along = x * math.cos(w["seabed_slope_heading"]) + y * math.sin(w["seabed_slope_heading"])
+        return -w["depth"] + math.tan(w["seabed_slope"]) * along
+
     if robot["type"] == "anchor":
         if robot["position"] is None:
             bad("robot.position is required for an anchor: (x, y, z) in m")
-        if robot["position"][2] < -depth - 1e-6:
-            bad(f"robot.position z = {robot['position'][2]} m is below the seabed (z = {-depth} m)")
-    else:
+        x, y, z = robot["position"]
+        if z < seabed_z(x, y) - 1e-6:
+            bad(f"robot.position z = {z} m is below the seabed (z = {seabed_z(x, y):.2f} m there)")
+    elif seabed_z(*robot["start"]) >= -1.0:
+        bad(f"robot.start {list(robot['start'])} is where the seabed is {seabed_z(*robot['start']):.2f} m "
+            "high: the walker needs at least 1 m of water")
+    if robot["type"] == "walker":
         cmds = robot["commands"]
         if any(not isinstance(c, tuple) or len(c) != 3 for c in cmds):
             bad("robot.commands must be a list of [time (s), speed (m/s), turn rate (rad/s)]")
         times = [c[0] for c in cmds]
         if times[0] != 0.0 or any(b <= a for a, b in zip(times, times[1:])):
             bad(f"robot.commands times must start at 0 s and increase, got {times}")
-        for t, v, w in cmds:
+        for t, v, turn in cmds:
             if not -1.0 <= v <= 1.0:
                 bad(f"robot.commands speed must be in [-1, 1] m/s (the walker's top speed), got {v} at t = {t} s")
-            if not -0.5 <= w <= 0.5:
-                bad(f"robot.commands turn rate must be in [-0.5, 0.5] rad/s, got {w} at t = {t} s")
+            if not -0.5 <= turn <= 0.5:
+                bad(f"robot.commands turn rate must be in [-0.5, 0.5] rad/s, got {turn} at t = {t} s")
+    if seabed_z(*sc["ship"]["position"]) >= -1.0:
+        bad(f"ship.position {list(sc['ship']['position'])}: the seabed there is {seabed_z(*sc['ship']['position']):.2f} m "
+            "high, above the surface or within 1 m of it")
     for sec, keys in (("water.density", ("depths", "values")), ("water.current", ("depths", "speeds"))):
         if sc[sec]["type"] == "table":
             for k in keys:

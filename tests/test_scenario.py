@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from mjtether import cli, results
-from mjtether.quasistatic import steady_state
+from mjtether.quasistatic import khan2023, steady_state
 from mjtether.runner import ScenarioRun, run, tether_from, water_from
 from mjtether.scenario import SCHEMA, ScenarioError, load_scenario
 
@@ -179,6 +179,24 @@ def test_solve_prints_the_steady_state(tmp_path, capsys):
         assert f"tension {r.initial.top_tension:.1f} N" in text
     finally:
         r.close()
+
+
+def test_solve_prints_the_paper_method_for_a_walker(tmp_path, capsys):
+    """For a walker the paper's method is run at its first commanded speed, to its depth."""
+    f = tmp_path / "w.toml"
+    f.write_text(WALK.format(length=122.0, winch="follow"))
+    assert cli.main(["solve", str(f)]) == 0
+    text = capsys.readouterr().out
+    sc = load_scenario(f)
+    r = ScenarioRun(sc)
+    try:
+        t = r.tether_spec
+        k = khan2023(diameter=t.diameter, cable_density=2500.0, water=r.water, robot_speed=0.5,
+                     depth=-r.robot_position[2], segments=40, cd_normal=t.cd_normal, cd_axial=t.cd_tangential,
+                     gravity=9.81, variant="consistent")
+    finally:
+        r.close()
+    assert f"consistent length to reach it {k.length:.1f} m" in text and "printed" in text
 
 
 # ------------------------------------------------------------------ the walker on a tether
