@@ -15,6 +15,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from .units import KNOT
+from .walker import Tripod
 
 INF = math.inf
 
@@ -242,9 +243,11 @@ def _cross_checks(name: str, sc: dict) -> None:
         times = [c[0] for c in cmds]
         if times[0] != 0.0 or any(b <= a for a, b in zip(times, times[1:])):
             bad(f"robot.commands times must start at 0 s and increase, got {times}")
+        top = Tripod.max_stride / (robot["gait_period"] / 2)  # the tripod gait's longest stroke per half cycle
         for t, v, turn in cmds:
-            if not -1.0 <= v <= 1.0:
-                bad(f"robot.commands speed must be in [-1, 1] m/s (the walker's top speed), got {v} at t = {t} s")
+            if not -top <= v <= top:
+                bad(f"robot.commands speed must be in [-{top:.2f}, {top:.2f}] m/s (the walker's top speed at "
+                    f"gait_period = {robot['gait_period']:g} s), got {v} at t = {t} s")
             if not -0.5 <= turn <= 0.5:
                 bad(f"robot.commands turn rate must be in [-0.5, 0.5] rad/s, got {turn} at t = {t} s")
     if seabed_z(*sc["ship"]["position"]) >= -1.0:
