@@ -1,4 +1,4 @@
-"""Command line: ``mjtether run``, ``mjtether solve``, ``mjtether demo``."""
+"""Command line: ``mjtether run``, ``mjtether render``, ``mjtether solve``, ``mjtether demo``."""
 
 from __future__ import annotations
 
@@ -23,6 +23,14 @@ def main(argv=None) -> int:
     run_cmd.add_argument("scenario", nargs="?", help="scenario TOML file (default: the built-in scenario)")
     run_cmd.add_argument("--out", default="results", help="results folder (default: ./results)")
     run_cmd.add_argument("--no-plots", action="store_true", help="skip the PNG plots")
+    run_cmd.add_argument("--video", nargs="?", const="video.mp4", metavar="NAME",
+                         help="also render a video into the results folder (default name video.mp4; .mp4 or .gif)")
+    _video_options(run_cmd)
+    render_cmd = sub.add_parser("render", help="render a scenario run to a video file (no display needed)")
+    render_cmd.add_argument("scenario", nargs="?", help="scenario TOML file (default: the built-in scenario)")
+    render_cmd.add_argument("-o", "--output", default="run.mp4", help="video file, .mp4 (H.264) or .gif (default run.mp4)")
+    render_cmd.add_argument("--duration", type=float, help="simulated seconds to render (default: the scenario's)")
+    _video_options(render_cmd)
     solve_cmd = sub.add_parser("solve", help="print the quasi-static answer for a scenario's initial state")
     solve_cmd.add_argument("scenario", nargs="?", help="scenario TOML file (default: the built-in scenario)")
     args = ap.parse_args(argv)
@@ -30,6 +38,8 @@ def main(argv=None) -> int:
         return _run(args)
     if args.command == "solve":
         return _solve(args)
+    if args.command == "render":
+        return _render(args)
     if args.command == "demo":
         try:
             res = demo.main(duration=args.duration, length=args.length, segments=args.segments,
@@ -40,6 +50,30 @@ def main(argv=None) -> int:
         print(f"after {res['time']:.0f} s: ship-end tension {res['ship_tension']:.1f} N, "
               f"weight-end tension {res['weight_tension']:.1f} N")
     return 0
+
+
+def _video_options(p) -> None:
+    from .render import CAMERAS
+
+    p.add_argument("--width", type=int, default=640, help="frame width in pixels, even (default 640)")
+    p.add_argument("--height", type=int, default=480, help="frame height in pixels, even (default 480)")
+    p.add_argument("--fps", type=float, default=30.0, help="frames per second of simulated time (default 30)")
+    p.add_argument("--camera", choices=CAMERAS, default="track",
+                   help="track: follows the robot; side/top: the whole tether; walker: the walker's camera")
+    p.add_argument("--tension-scale", type=float, metavar="N",
+                   help="top of the tension colour scale in N (default: rated load, else 2x the initial peak)")
+    p.add_argument("--default-visuals", action="store_true",
+                   help="MuJoCo's default visuals (shadows, reflections, anti-aliasing): slower")
+
+
+def _video_factory(args, path, duration=None):
+    """A ``run(video=...)`` factory for the options in ``args``; raises ValueError on bad ones."""
+    from .render import VideoRecorder, VideoSettings, check_output_path
+
+    settings = VideoSettings(width=args.width, height=args.height, fps=args.fps, camera=args.camera,
+                             tuned=not args.default_visuals, tension_scale=args.tension_scale)
+    check_output_path(path)
+    return lambda runner: VideoRecorder(runner, path, settings, duration=duration)
 
 
 def _load(path):
@@ -71,19 +105,72 @@ def _run(args) -> int:
     def progress(k, n):
         bar.update(k - bar.n)
 
+    video, extra = None, {}
+    if args.video:
+        out_dir = Path(args.out)
+        name = Path(args.video).name
+        staged = out_dir.parent / f".{out_dir.name}.{name}"
+        try:
+            video = _video_factory(args, staged)
+        except ValueError as exc:
+            bar.close()
+            print(f"mjtether run: {exc}", file=sys.stderr)
+            return 2
+        extra = {name: staged}
     try:
-        rows, nodes, info = run(sc, progress=progress)
-    except (RunFailed, SimulationDiverged, ValueError) as exc:
+        rows, nodes, info = run(sc, progress=progress, video=video)
+    except (RunFailed, SimulationDiverged, ValueError, RuntimeError) as exc:
         bar.close()
         print(f"mjtether run: failed, no results written: {exc}", file=sys.stderr)
         return 1
     bar.close()
-    out = results.write(args.out, sc, rows, nodes, info, scenario_path=args.scenario, plots=not args.no_plots)
+    if "video" in info:
+        info["video"]["file"] = next(iter(extra))  # its name inside the results folder
+    try:
+        out = results.write(args.out, sc, rows, nodes, info, scenario_path=args.scenario, plots=not args.no_plots,
+                            extra_files=extra)
+    finally:
+        for f in extra.values():
+            f.unlink(missing_ok=True)
     s = results.summary(sc, rows, info, args.scenario)
     print(f"{info['simulated_s']:.0f} s simulated in {info['wall_time_s']:.1f} s "
           f"({info['realtime_factor']:.1f}x real time); final ship-end tension {s['final']['ship_tension_N']:.0f} N, "
           f"tow tension {s['final']['tow_tension_N']:.0f} N; peak {s['peak']['ship_tension_N']:.0f} N; "
           f"results in {out}/")
+    return 0
+
+
+def _render(args) -> int:
+    from tqdm import tqdm
+
+    from .runner import RunFailed, run
+    from .simulation import SimulationDiverged
+
+    sc = _load(args.scenario)
+    if sc is None:
+        return 2
+    if args.duration is not None:
+        if not 0 < args.duration <= 1e6:
+            print(f"mjtether render: --duration must be in (0, 1e6] s, got {args.duration}", file=sys.stderr)
+            return 2
+        sc["simulation"]["duration"] = args.duration
+    try:
+        video = _video_factory(args, args.output)
+    except ValueError as exc:
+        print(f"mjtether render: {exc}", file=sys.stderr)
+        return 2
+    bar = tqdm(total=int(round(sc["simulation"]["duration"] / sc["simulation"]["timestep"])), unit="step",
+               desc="mjtether render", leave=False)
+    try:
+        _, _, info = run(sc, progress=lambda k, n: bar.update(k - bar.n), keep_nodes=False, video=video)
+    except (RunFailed, SimulationDiverged, ValueError, RuntimeError) as exc:
+        bar.close()
+        print(f"mjtether render: failed, no video written: {exc}", file=sys.stderr)
+        return 1
+    bar.close()
+    v = info["video"]
+    print(f"{v['frames']} frames ({info['simulated_s']:.1f} s at {v['fps']:g} fps, camera {v['camera']}) in "
+          f"{info['wall_time_s']:.1f} s; tension colours 0-{v['tension_scale_N']:g} N; wrote {v['file']}")
     return 0
 
 

@@ -61,8 +61,9 @@ def summary(sc: dict, rows: np.ndarray, info: dict, scenario_path) -> dict:
 
 
 def write(out, sc: dict, rows: np.ndarray, nodes: np.ndarray, info: dict, scenario_path=None,
-          plots: bool = True) -> Path:
-    """Write the results folder ``out`` atomically (replacing an older one); returns its path."""
+          plots: bool = True, extra_files: dict | None = None) -> Path:
+    """Write the results folder ``out`` atomically (replacing an older one); returns its path.
+    ``extra_files`` {name: path} are moved into it (e.g. a video rendered during the run)."""
     out = Path(out)
     out.parent.mkdir(parents=True, exist_ok=True)
     tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}.partial-", dir=out.parent))
@@ -77,6 +78,8 @@ def write(out, sc: dict, rows: np.ndarray, nodes: np.ndarray, info: dict, scenar
         (tmp / "summary.json").write_text(json.dumps(summary(sc, rows, info, scenario_path), indent=2))
         if plots:
             _plots(tmp, rows, nodes, sc)
+        for name, path in (extra_files or {}).items():
+            shutil.move(str(path), tmp / name)
         if out.exists():
             old = out.with_name(f".{out.name}.old")
             if old.exists():

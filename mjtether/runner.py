@@ -335,9 +335,11 @@ class ScenarioRun:
         self.sim.close()
 
 
-def run(sc: dict, progress=None, keep_nodes: bool = True):
+def run(sc: dict, progress=None, keep_nodes: bool = True, video=None):
     """Simulate ``sc``; returns (rows (n, len(RECORD_FIELDS)), node history (n, N+1, 3), info).
-    ``progress(k, n)`` is called as it goes. Raises ``RunFailed`` (or ``SimulationDiverged``)."""
+    ``progress(k, n)`` is called as it goes. ``video(runner)`` makes a ``render.VideoRecorder``
+    for the built run; frames are then taken as they fall due and the file is finished, or
+    deleted if the run fails. Raises ``RunFailed`` (or ``SimulationDiverged``)."""
     sim_sc = sc["simulation"]
     dt = sim_sc["timestep"]
     n_steps = int(round(sim_sc["duration"] / dt))
@@ -345,23 +347,38 @@ def run(sc: dict, progress=None, keep_nodes: bool = True):
     rows, nodes = [], []
     t0 = time.perf_counter()
     runner = ScenarioRun(sc)
+    rec = None
     try:
+        rec = video(runner) if video is not None else None
         rows.append(runner.record())
         nodes.append(runner.bt.nodes(runner.sim.data))
+        if rec is not None and rec.due(runner.sim.time):
+            rec.capture()
         for k in range(1, n_steps + 1):
             runner.step()
             if k % every == 0:
                 rows.append(runner.record())
                 if keep_nodes:
                     nodes.append(runner.bt.nodes(runner.sim.data))
-                if progress:
-                    progress(k, n_steps)
+            if rec is not None and rec.due(runner.sim.time):
+                rec.capture()
+            if progress and (k % every == 0 or k == n_steps):
+                progress(k, n_steps)
         wall = time.perf_counter() - t0
+        rows = np.array(rows)
+        if not np.all(np.isfinite(rows)):
+            raise RunFailed("the run produced non-finite values")
+        if rec is not None:
+            rec.finish()
+    except BaseException:
+        if rec is not None:
+            rec.abort()
+        raise
     finally:
         runner.close()
-    rows = np.array(rows)
-    if not np.all(np.isfinite(rows)):
-        raise RunFailed("the run produced non-finite values")
     info = {"initial_state": runner.initial_note, "wall_time_s": wall, "simulated_s": n_steps * dt,
             "realtime_factor": n_steps * dt / wall if wall > 0 else math.inf, "steps": n_steps}
+    if rec is not None:
+        info["video"] = {"file": str(rec.path), "frames": rec.frames, "fps": rec.s.fps, "camera": rec.s.camera,
+                         "tension_scale_N": rec.scale}
     return rows, np.array(nodes), info
