@@ -113,3 +113,16 @@ def test_bad_video_options_are_refused(tmp_path, capsys, args, message):
     assert cli.main(argv) == 2
     assert message in capsys.readouterr().err
     assert list(tmp_path.iterdir()) == [f]
+
+
+def test_missing_opengl_names_the_system_package(monkeypatch):
+    """Asking for OSMesa where it is not installed gives an error naming the package to
+    install (on a machine that has OSMesa there is nothing to test)."""
+    from mjtether import render
+
+    if render._probe("osmesa") is None:
+        pytest.skip("OSMesa is installed here")
+    monkeypatch.setenv("MUJOCO_GL", "osmesa")
+    monkeypatch.setattr(render, "_backend", None)
+    with pytest.raises(render.RenderUnavailable, match="libosmesa6"):
+        render.gl_backend()
