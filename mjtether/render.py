@@ -170,28 +170,16 @@ def check_output_path(path) -> Path:
     return p
 
 
-class VideoRecorder:
-    """Renders frames of a ``runner.ScenarioRun`` into a video file.
+class FrameRenderer:
+    """Draws the current state of a ``runner.ScenarioRun`` offscreen (see the module docstring);
+    ``render()`` returns an RGB array. ``close()`` frees the OpenGL context."""
 
-    The file is written under a temporary name beside ``path`` and renamed on ``finish()``;
-    ``abort()`` (or an exception inside ``with``) deletes it, so a failed run leaves no video.
-    """
-
-    def __init__(self, runner, path, settings: VideoSettings | None = None, duration: float | None = None):
-        import imageio.v2 as imageio
-
+    def __init__(self, runner, settings: VideoSettings | None = None):
         self.s = s = settings or VideoSettings()
-        self.path = check_output_path(path)
-        self.path.parent.mkdir(parents=True, exist_ok=True)
         self.runner = runner
         m = runner.sim.model
         if s.camera == "walker" and not runner.walker:
             raise ValueError("video.camera 'walker' needs a walker scenario (robot.type = 'walker')")
-        dur = runner.sc["simulation"]["duration"] if duration is None else duration
-        self.times = frame_times(dur, s.fps)
-        self.n_frames = len(self.times)
-        self.interval = 1.0 / s.fps
-        self.frames = 0
         # visual settings (model.vis is not used by the physics)
         m.vis.global_.offwidth = max(m.vis.global_.offwidth, s.width)
         m.vis.global_.offheight = max(m.vis.global_.offheight, s.height)
@@ -221,15 +209,7 @@ class VideoRecorder:
         self._background = (np.array(WATER_RGB) * 255).astype(np.uint8)
         self.scale = s.tension_scale or self._default_scale()
         self.legend = f"tether tension colour scale: 0 N (blue) to {self.scale:g} N (red), turbo; grey: compression"
-        tmp = self.path.with_name(f".{self.path.stem}.partial{self.path.suffix}")
-        self._tmp = tmp
-        if self.path.suffix.lower() == ".mp4":
-            self._writer = imageio.get_writer(tmp, fps=s.fps, codec="libx264", pixelformat="yuv420p",
-                                              macro_block_size=1, quality=7,
-                                              output_params=["-metadata", f"comment={self.legend}"])
-        else:
-            self._writer = imageio.get_writer(tmp, mode="I", duration=1000.0 / s.fps, loop=0)
-        self._done = False
+        self._closed = False
 
     # ------------------------------------------------------------- frame content
 
@@ -352,9 +332,51 @@ class VideoRecorder:
         np.copyto(f, self._background, where=empty[..., None])
         return np.flipud(f)
 
-    def capture(self, runner=None) -> None:
+    def close(self) -> None:
+        if not self._closed:
+            self._closed = True
+            self.ctx.free()
+            self._gl.free()
+
+
+class VideoRecorder:
+    """Renders frames of a ``runner.ScenarioRun`` into a video file (``FrameRenderer`` draws).
+
+    The file is written under a temporary name beside ``path`` and renamed on ``finish()``;
+    ``abort()`` (or an exception inside ``with``) deletes it, so a failed run leaves no video.
+    """
+
+    def __init__(self, runner, path, settings: VideoSettings | None = None, duration: float | None = None):
+        import imageio.v2 as imageio
+
+        self.s = s = settings or VideoSettings()
+        self.path = check_output_path(path)
+        self.path.parent.mkdir(parents=True, exist_ok=True)
+        dur = runner.sc["simulation"]["duration"] if duration is None else duration
+        self.times = frame_times(dur, s.fps)
+        self.n_frames = len(self.times)
+        self.frames = 0
+        self.frame = FrameRenderer(runner, s)
+        self.scale = self.frame.scale
+        self._tmp = self.path.with_name(f".{self.path.stem}.partial{self.path.suffix}")
+        try:
+            if self.path.suffix.lower() == ".mp4":
+                self._writer = imageio.get_writer(self._tmp, fps=s.fps, codec="libx264", pixelformat="yuv420p",
+                                                  macro_block_size=1, quality=7,
+                                                  output_params=["-metadata", f"comment={self.frame.legend}"])
+            else:
+                self._writer = imageio.get_writer(self._tmp, mode="I", duration=1000.0 / s.fps, loop=0)
+        except BaseException:
+            self.frame.close()
+            raise
+        self._done = False
+
+    def render(self) -> np.ndarray:
+        return self.frame.render()
+
+    def capture(self) -> None:
         """Render and append one frame."""
-        self._writer.append_data(self.render())
+        self._writer.append_data(self.frame.render())
         self.frames += 1
 
     def due(self, t: float) -> bool:
@@ -382,8 +404,7 @@ class VideoRecorder:
             try:
                 self._writer.close()
             finally:
-                self.ctx.free()
-                self._gl.free()
+                self.frame.close()
 
     def __enter__(self):
         return self

@@ -192,6 +192,7 @@ class ScenarioRun:
             end = builder.SitePoint("walker/tow_point")
             robot = builder.anchor_position(spec, end)
             self.commands = np.array(r["commands"], dtype=float)
+            self.manual_command = None
             self.gait = Tripod(period=r["gait_period"])
         else:
             robot = np.array(r["position"], dtype=float)
@@ -275,9 +276,16 @@ class ScenarioRun:
         return np.c_[[np.interp(u, s, pts[:, k]) for k in range(3)]].T
 
     def command(self, t: float) -> tuple[float, float]:
-        """The walker's commanded (speed m/s, turn rate rad/s) at time ``t`` (s)."""
+        """The walker's commanded (speed m/s, turn rate rad/s) at time ``t`` (s): the one set
+        with ``set_command``, else the scenario's schedule."""
+        if self.manual_command is not None:
+            return self.manual_command
         k = int(np.searchsorted(self.commands[:, 0], t, side="right")) - 1
         return float(self.commands[k, 1]), float(self.commands[k, 2])
+
+    def set_command(self, speed: float, turn_rate: float) -> None:
+        """Command the walker directly (m/s, rad/s), overriding the schedule from now on."""
+        self.manual_command = (float(speed), float(turn_rate))
 
     def _drive(self, dt: float, speed: float, turn_rate: float) -> None:
         """Gait targets at CONTROL_HZ (the position servos run at every step)."""

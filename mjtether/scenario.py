@@ -167,19 +167,25 @@ def _check_value(where: str, key: Key, value):
     raise AssertionError(t)
 
 
-def load_scenario(path=None, text: str | None = None) -> dict:
-    """Read and check a scenario; returns ``{section: {key: value}}`` with every default filled
-    in (SI units). ``path=None`` and ``text=None`` give the built-in default."""
-    name = "<default>" if path is None and text is None else (str(path) if path is not None else "<text>")
-    if text is None and path is not None:
+def load_scenario(path=None, text: str | None = None, data: dict | None = None, name: str | None = None) -> dict:
+    """Read and check a scenario from a TOML file ``path``, TOML ``text`` or ``data`` (the nested
+    dict TOML would give, e.g. built by a Gymnasium environment); returns ``{section: {key:
+    value}}`` with every default filled in (SI units). ``name`` labels errors. With no source,
+    every key takes its default."""
+    if name is None:
+        name = str(path) if path is not None else "<text>" if text is not None else "<data>"
+    if data is not None:
+        raw = data
+    else:
+        if text is None and path is not None:
+            try:
+                text = Path(path).read_text()
+            except OSError as exc:
+                raise ScenarioError(f"{name}: cannot read the scenario ({exc.strerror})") from None
         try:
-            text = Path(path).read_text()
-        except OSError as exc:
-            raise ScenarioError(f"{name}: cannot read the scenario ({exc.strerror})") from None
-    try:
-        raw = tomllib.loads(text or "")
-    except tomllib.TOMLDecodeError as exc:
-        raise ScenarioError(f"{name}: not valid TOML: {exc}") from None
+            raw = tomllib.loads(text or "")
+        except tomllib.TOMLDecodeError as exc:
+            raise ScenarioError(f"{name}: not valid TOML: {exc}") from None
 
     out: dict[str, dict] = {}
     flat: dict[str, dict] = {}

@@ -1,0 +1,25 @@
+"""Gymnasium environments for tether-aware control (installed as ``mjtether.envs``).
+
+Importing this package registers:
+
+* ``mjtether/TetherWinch-v0`` (``TetherWinchEnv``): command the winch behind a walker that
+  follows a scripted route;
+* ``mjtether/TetheredWalker-v0`` (``TetheredWalkerEnv``): command the walker's gait and the
+  winch to reach a goal on the seabed.
+
+>>> import gymnasium as gym, mjtether.envs  # noqa: F401
+>>> env = gym.make("mjtether/TetherWinch-v0")
+"""
+
+from gymnasium.envs.registration import register, registry
+
+from .baselines import FollowPayout, SteerToGoal
+from .tether_winch import TetherWinchEnv
+from .tethered_walker import TetheredWalkerEnv
+
+__all__ = ["TetherWinchEnv", "TetheredWalkerEnv", "FollowPayout", "SteerToGoal"]
+
+for _id, _entry, _steps in (("mjtether/TetherWinch-v0", "mjtether.envs.tether_winch:TetherWinchEnv", 600),
+                            ("mjtether/TetheredWalker-v0", "mjtether.envs.tethered_walker:TetheredWalkerEnv", 900)):
+    if _id not in registry:
+        register(id=_id, entry_point=_entry, max_episode_steps=_steps)

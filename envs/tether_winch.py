@@ -1,0 +1,130 @@
+"""``mjtether/TetherWinch-v0``: pay out and reel in the tether behind a walker on a scripted route.
+
+The hexapod walker sets off from ``start_distance`` m ahead of a ship holding station, on a
+seabed ``depth`` m down, and follows a route drawn at each reset: three legs of equal duration
+over ``route_duration`` s, each at a speed in [0.15, 0.45] m/s, half of them turning at up to
+0.06 rad/s. The current is exponential in depth, with a surface speed up to ``current_max_kn``,
+a decay depth in [10, 40] m and any heading. The agent commands the winch.
+
+Action (``Box(-1, 1, (1,))``): the payout rate as a fraction of ``max_rate`` (m/s; negative reels
+in). The drum follows it at up to 0.2 m/s^2.
+
+Observation (``Box``, float32, physical units, 16 values, clipped to the bounds):
+
+====  ==================================================  =========================
+ 0    deployed length (m)                                 [0, max_length]
+ 1    ship-end tension (N)                                [0, 2 rated_load]
+ 2    tow-point tension (N)                               [0, 2 rated_load]
+ 3    horizontal distance of the tow point from the ship  [0, 1e4] m
+ 4-5  sin, cos of its bearing from the ship (from +x)     [-1, 1]
+ 6    the walker's horizontal speed (m/s)                 [0, 3]
+ 7    its range rate, d(distance)/dt (m/s)                [-3, 3]
+ 8-13 current (x, y) at 5 %, 25 % and 75 % of the depth   [-5, 5] m/s
+ 14   tether length lying on the seabed (m)               [0, max_length]
+ 15   the drum's payout rate now (m/s)                    [-max_rate, max_rate]
+====  ==================================================  =========================
+
+Reward per step (dimensionless, per ``dt`` = frame_skip x timestep s)::
+
+    r = - w_tension  * T_tow / T_ref                      (keep the tow tension low ...)
+        - w_steady   * |T_tow - T_tow,prev| / T_ref        (... and steady)
+        - w_slack    * max(0, L_seabed - slack_allowance) / slack_allowance   (no excess on the bottom)
+        - failure_penalty  on termination
+
+with T_ref = ``tension_ref`` N. The episode terminates when the ship-end tension exceeds the
+rated load or the deployed length reaches ``min_length`` or ``max_length``; it is truncated by
+``max_episode_steps`` (600: 60 s at the default 0.1 s per step).
+
+``info`` holds the reward terms (``reward_tension``, ``reward_steady``, ``reward_slack``,
+``reward_failure``), the tensions, the deployed length, the tow point's position and the
+walker's speed.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from gymnasium import spaces
+
+from .base import TetherEnv, _check
+
+
+class TetherWinchEnv(TetherEnv):
+    """See the module docstring. Keyword arguments of ``TetherEnv`` set the site and tether."""
+
+    def __init__(self, *, route_duration: float = 60.0, tension_ref: float = 500.0, slack_allowance: float = 10.0,
+                 w_tension: float = 1.0, w_steady: float = 0.5, w_slack: float = 0.5, failure_penalty: float = 50.0,
+                 **kwargs):
+        super().__init__(**kwargs)
+        self.route_duration = _check("route_duration", route_duration, 1.0, 1e5, "s")
+        self.tension_ref = _check("tension_ref", tension_ref, 1.0, 1e8, "N")
+        self.slack_allowance = _check("slack_allowance", slack_allowance, 0.1, 1e4, "m")
+        self.w_tension = _check("w_tension", w_tension, 0.0, 1e3)
+        self.w_steady = _check("w_steady", w_steady, 0.0, 1e3)
+        self.w_slack = _check("w_slack", w_slack, 0.0, 1e3)
+        self.failure_penalty = _check("failure_penalty", failure_penalty, 0.0, 1e6)
+        T2 = 2.0 * self.rated_load
+        lo = [0.0, 0.0, 0.0, 0.0, -1.0, -1.0, 0.0, -3.0] + [-5.0] * 6 + [0.0, -self.max_rate]
+        hi = [self.max_length, T2, T2, 1e4, 1.0, 1.0, 3.0, 3.0] + [5.0] * 6 + [self.max_length, self.max_rate]
+        self.observation_space = spaces.Box(np.array(lo, np.float32), np.array(hi, np.float32), dtype=np.float32)
+        self.action_space = spaces.Box(-1.0, 1.0, (1,), dtype=np.float32)
+
+    def _robot_section(self, rng):
+        legs = 3
+        t = np.arange(legs) * self.route_duration / legs
+        speed = rng.uniform(0.15, 0.45, legs)
+        turn = np.where(rng.uniform(size=legs) < 0.5, 0.0, rng.uniform(-0.06, 0.06, legs))
+        heading = float(rng.uniform(-0.5, 0.5))
+        start = [self.start_distance * math.cos(heading), self.start_distance * math.sin(heading)]
+        return {"type": "walker", "start": start, "heading": heading,
+                "commands": [[float(a), float(b), float(c)] for a, b, c in zip(t, speed, turn)]}
+
+    # ---------------------------------------------------------------- gymnasium API
+
+    def reset(self, *, seed=None, options=None):
+        self._start_episode(seed)
+        tow, _, _ = self.robot_kinematics()
+        self._prev_distance = float(np.hypot(tow[0], tow[1]))
+        return self._get_obs(), self._info({})
+
+    def step(self, action):
+        if self.runner is None:
+            raise RuntimeError("call reset() before step()")
+        a = float(np.clip(np.asarray(action, dtype=float).reshape(-1)[0], -1.0, 1.0))
+        self.runner.winch.command(a * self.max_rate)
+        self._advance()
+        obs = self._get_obs()
+        tow = self.tow_tension()
+        terms = {
+            "reward_tension": -self.w_tension * tow / self.tension_ref,
+            "reward_steady": -self.w_steady * abs(tow - self._prev_tow) / self.tension_ref,
+            "reward_slack": -self.w_slack * max(0.0, self.length_on_seabed() - self.slack_allowance)
+            / self.slack_allowance,
+        }
+        terminated = bool(self.broke or self.at_length_limit())
+        terms["reward_failure"] = -self.failure_penalty if terminated else 0.0
+        self._prev_tow = tow
+        reward = float(sum(terms.values()))
+        return obs, reward, terminated, False, self._info(terms)
+
+    # ---------------------------------------------------------------- observation
+
+    def _get_obs(self) -> np.ndarray:
+        r = self.runner
+        tow, _, v = self.robot_kinematics()
+        dist = float(np.hypot(tow[0], tow[1]))
+        bearing = math.atan2(tow[1], tow[0])
+        radial = float(v @ (tow[:2] / max(dist, 1e-9)))
+        obs = np.array([r.bt.deployed_length, self.ship_tension(), self.tow_tension(), dist,
+                        math.sin(bearing), math.cos(bearing), float(np.hypot(*v)), radial,
+                        *self.currents(), self.length_on_seabed(), r.winch.current_rate], dtype=np.float32)
+        return np.clip(obs, self.observation_space.low, self.observation_space.high)
+
+    def _info(self, terms: dict) -> dict:
+        r = self.runner
+        tow, _, v = self.robot_kinematics()
+        return {**terms, "ship_tension": self.ship_tension(), "tow_tension": self.tow_tension(),
+                "deployed_length": r.bt.deployed_length, "tow_point": tow, "robot_speed": float(np.hypot(*v)),
+                "length_on_seabed": self.length_on_seabed(), "rated_load_exceeded": self.broke,
+                "time": r.sim.time}

@@ -1,0 +1,154 @@
+"""``mjtether/TetheredWalker-v0``: walk the tethered hexapod to a goal on the seabed.
+
+The walker starts ``start_distance`` m from a ship holding station, facing away from it (with
+up to 0.5 rad of random yaw), on a seabed ``depth`` m down, in an exponential current drawn as
+in ``TetherWinch-v0``. A goal is drawn 15 to 30 m away, within 90 degrees of straight ahead. The
+agent commands the gait and the winch.
+
+Action (``Box(-1, 1, (3,))``): forward speed as a fraction of ``max_speed`` (m/s), turn rate as a
+fraction of ``max_turn_rate`` (rad/s), payout rate as a fraction of ``max_rate`` (m/s).
+
+Observation (``Box``, float32, physical units, 19 values, clipped to the bounds):
+
+=====  ===============================================  =========================
+ 0-1   goal position in the walker's frame (x ahead, y left, m)   [-1e3, 1e3]
+ 2     distance to the goal (m)                          [0, 1e3]
+ 3-4   the walker's velocity in its frame (m/s)          [-3, 3]
+ 5     its yaw rate (rad/s)                              [-3, 3]
+ 6-8   tether force on the tow point in the walker's frame (N)    [-2 rated_load, 2 rated_load]
+ 9     deployed length (m)                               [0, max_length]
+ 10    ship-end tension (N)                              [0, 2 rated_load]
+ 11    tether length on the seabed (m)                   [0, max_length]
+ 12    the drum's payout rate now (m/s)                  [-max_rate, max_rate]
+ 13-18 current (x, y) at 5 %, 25 % and 75 % of the depth, in the walker's frame (m/s) [-5, 5]
+=====  ===============================================  =========================
+
+Reward per step::
+
+    r = w_progress * (d_prev - d) / (max_speed dt)       (progress towards the goal, 1 at full speed)
+        - w_force  * |F_tow| / force_ref                 (tow force)
+        - w_energy * sum_j |tau_j qdot_j| dt / energy_ref (leg actuators' mechanical work)
+        + goal_bonus on reaching the goal (within goal_radius m)
+        - failure_penalty on breaking the tether or running out of it
+
+The episode terminates at the goal, above the rated load, or at a length limit; it is truncated
+by ``max_episode_steps`` (900: 90 s). ``info`` holds the reward terms, the distance to the goal,
+the tensions, the positions and ``is_success``.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from gymnasium import spaces
+
+from mjtether.runner import RunFailed
+
+from .base import TetherEnv, _check
+
+
+class TetheredWalkerEnv(TetherEnv):
+    """See the module docstring. Keyword arguments of ``TetherEnv`` set the site and tether."""
+
+    def __init__(self, *, max_speed: float = 0.5, max_turn_rate: float = 0.2, goal_radius: float = 1.0,
+                 force_ref: float = 500.0, energy_ref: float = 500.0, w_progress: float = 1.0, w_force: float = 0.2,
+                 w_energy: float = 0.05, goal_bonus: float = 50.0, failure_penalty: float = 50.0, **kwargs):
+        super().__init__(**kwargs)
+        self.max_speed = _check("max_speed", max_speed, 0.05, 1.0, "m/s")
+        self.max_turn_rate = _check("max_turn_rate", max_turn_rate, 0.01, 0.5, "rad/s")
+        self.goal_radius = _check("goal_radius", goal_radius, 0.1, 100.0, "m")
+        self.force_ref = _check("force_ref", force_ref, 1.0, 1e8, "N")
+        self.energy_ref = _check("energy_ref", energy_ref, 1.0, 1e8, "J")
+        self.w_progress = _check("w_progress", w_progress, 0.0, 1e3)
+        self.w_force = _check("w_force", w_force, 0.0, 1e3)
+        self.w_energy = _check("w_energy", w_energy, 0.0, 1e3)
+        self.goal_bonus = _check("goal_bonus", goal_bonus, 0.0, 1e6)
+        self.failure_penalty = _check("failure_penalty", failure_penalty, 0.0, 1e6)
+        F2, L = 2.0 * self.rated_load, self.max_length
+        lo = [-1e3, -1e3, 0.0, -3.0, -3.0, -3.0, -F2, -F2, -F2, 0.0, 0.0, 0.0, -self.max_rate] + [-5.0] * 6
+        hi = [1e3, 1e3, 1e3, 3.0, 3.0, 3.0, F2, F2, F2, L, F2, L, self.max_rate] + [5.0] * 6
+        self.observation_space = spaces.Box(np.array(lo, np.float32), np.array(hi, np.float32), dtype=np.float32)
+        self.action_space = spaces.Box(-1.0, 1.0, (3,), dtype=np.float32)
+        self.goal = np.zeros(2)
+
+    def _robot_section(self, rng):
+        heading = float(rng.uniform(-0.5, 0.5))
+        start = np.array([math.cos(heading), math.sin(heading)]) * self.start_distance
+        d, bearing = rng.uniform(15.0, 30.0), heading + rng.uniform(-math.pi / 2, math.pi / 2)
+        self.goal = start + d * np.array([math.cos(bearing), math.sin(bearing)])
+        return {"type": "walker", "start": start.tolist(), "heading": heading, "commands": [[0.0, 0.0, 0.0]]}
+
+    # ---------------------------------------------------------------- gymnasium API
+
+    def reset(self, *, seed=None, options=None):
+        self._start_episode(seed)
+        self.runner.set_command(0.0, 0.0)
+        self._prev_distance = self._goal_distance()
+        return self._get_obs(), self._info({})
+
+    def step(self, action):
+        if self.runner is None:
+            raise RuntimeError("call reset() before step()")
+        a = np.clip(np.asarray(action, dtype=float).reshape(-1), -1.0, 1.0)
+        r = self.runner
+        r.set_command(a[0] * self.max_speed, a[1] * self.max_turn_rate)
+        r.winch.command(a[2] * self.max_rate)
+        work = 0.0  # mechanical work of the leg actuators over the step (J)
+        d = r.sim.data
+        for _ in range(self.frame_skip):
+            try:
+                r.step()
+            except RunFailed:
+                self.broke = True
+                break
+            work += float(np.abs(d.actuator_force * d.actuator_velocity).sum()) * self.timestep
+        dist = self._goal_distance()
+        F = r.bt.end_force(d, "end")
+        success = dist <= self.goal_radius
+        failed = self.broke or self.at_length_limit()
+        terms = {
+            "reward_progress": self.w_progress * (self._prev_distance - dist) / (self.max_speed * self.dt),
+            "reward_force": -self.w_force * float(np.linalg.norm(F)) / self.force_ref,
+            "reward_energy": -self.w_energy * work / self.energy_ref,
+            "reward_goal": self.goal_bonus if success else 0.0,
+            "reward_failure": -self.failure_penalty if failed else 0.0,
+        }
+        self._prev_distance = dist
+        return self._get_obs(), float(sum(terms.values())), bool(success or failed), False, self._info(terms)
+
+    # ---------------------------------------------------------------- observation
+
+    def _goal_distance(self) -> float:
+        """Horizontal distance (m) from the walker's torso to the goal."""
+        return float(np.hypot(*(self.goal - self.runner.sim.data.xpos[self.runner.torso][:2])))
+
+    def _get_obs(self) -> np.ndarray:
+        r = self.runner
+        d = r.sim.data
+        R = d.xmat[r.torso].reshape(3, 3)
+        yaw = math.atan2(R[1, 0], R[0, 0])
+        cy, sy = math.cos(yaw), math.sin(yaw)
+
+        def to_body(vx, vy):
+            return cy * vx + sy * vy, -sy * vx + cy * vy
+
+        p = d.xpos[r.torso][:2]
+        g = to_body(*(self.goal - p))
+        _, _, v = self.robot_kinematics()
+        vb = to_body(*v)
+        F = R.T @ r.bt.end_force(d, "end")
+        cur = self.currents().reshape(-1, 2)
+        cur_b = [c for u in cur for c in to_body(*u)]
+        obs = np.array([*g, float(np.hypot(*g)), *vb, d.qvel[r.sim.model.body_dofadr[r.torso] + 5], *F,
+                        r.bt.deployed_length, self.ship_tension(), self.length_on_seabed(), r.winch.current_rate,
+                        *cur_b], dtype=np.float32)
+        return np.clip(obs, self.observation_space.low, self.observation_space.high)
+
+    def _info(self, terms: dict) -> dict:
+        r = self.runner
+        return {**terms, "goal": self.goal.copy(), "goal_distance": self._goal_distance(),
+                "is_success": self._goal_distance() <= self.goal_radius, "ship_tension": self.ship_tension(),
+                "tow_tension": self.tow_tension(), "deployed_length": r.bt.deployed_length,
+                "position": r.sim.data.xpos[r.torso].copy(), "rated_load_exceeded": self.broke,
+                "time": r.sim.time}

@@ -1,0 +1,140 @@
+"""Train PPO (Stable-Baselines3) on ``mjtether/TetherWinch-v0`` and compare it with the paper's
+payout rule (``FollowPayout``: pay out at the walker's speed) on the same evaluation seeds.
+
+    python -m pip install -e ".[learning]"
+    python scripts/train_ppo.py --timesteps 400000 --out results/ppo      # about 40 min on 2 cores
+
+Writes to ``--out``: ``policy.zip`` and ``vecnormalize.pkl`` (the policy and its observation
+normalisation), ``learning_curve.png`` (episode return against environment steps),
+``evaluation.json`` (per-seed returns of both controllers, means and standard deviations) and
+prints the table that ``docs/learning.md`` shows. ``--timesteps 256 --eval-seeds 1`` is the
+smoke test CI runs.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import time
+from pathlib import Path
+
+import gymnasium as gym
+import numpy as np
+
+import mjtether.envs  # noqa: F401 - registers the environments
+from mjtether.envs import FollowPayout
+
+ENV_ID = "mjtether/TetherWinch-v0"
+EVAL_SEED0 = 10_000  # evaluation seeds: EVAL_SEED0 .. EVAL_SEED0 + n - 1, never used in training
+
+
+def episode_return(env, act, seed: int) -> float:
+    """Return of one episode of ``act(obs, env) -> action`` from ``env.reset(seed=seed)``."""
+    obs, _ = env.reset(seed=seed)
+    total, done = 0.0, False
+    while not done:
+        obs, r, term, trunc, _ = env.step(act(obs, env))
+        total += r
+        done = term or trunc
+    return total
+
+
+def evaluate(model, vecnorm, seeds) -> dict:
+    env = gym.make(ENV_ID)
+    baseline = FollowPayout()
+    try:
+        policy = [episode_return(env, lambda o, e: model.predict(vecnorm.normalize_obs(o), deterministic=True)[0], s)
+                  for s in seeds]
+        rule = [episode_return(env, lambda o, e: baseline(e), s) for s in seeds]
+    finally:
+        env.close()
+    return {"seeds": list(seeds), "policy": policy, "baseline": rule,
+            "policy_mean": float(np.mean(policy)), "policy_std": float(np.std(policy)),
+            "baseline_mean": float(np.mean(rule)), "baseline_std": float(np.std(rule))}
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--timesteps", type=int, default=400_000)
+    ap.add_argument("--envs", type=int, default=2, help="parallel environments (subprocesses), default 2")
+    ap.add_argument("--eval-seeds", type=int, default=20)
+    ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--out", default="results/ppo")
+    args = ap.parse_args(argv)
+    try:
+        from stable_baselines3 import PPO
+        from stable_baselines3.common.env_util import make_vec_env
+        from stable_baselines3.common.vec_env import SubprocVecEnv, VecNormalize
+    except ImportError:
+        raise SystemExit("train_ppo.py needs Stable-Baselines3: python -m pip install -e \".[learning]\"")
+    import torch
+
+    torch.set_num_threads(1)
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    t0 = time.perf_counter()
+    vec_cls = SubprocVecEnv if args.envs > 1 else None
+    venv = make_vec_env(ENV_ID, n_envs=args.envs, seed=args.seed, vec_env_cls=vec_cls)
+    venv = VecNormalize(venv, norm_obs=True, norm_reward=True, gamma=0.99)
+    n_steps = max(16, min(1024, args.timesteps // args.envs))
+    model = PPO("MlpPolicy", venv, n_steps=n_steps, batch_size=min(256, n_steps * args.envs), learning_rate=3e-4,
+                gamma=0.99, gae_lambda=0.95, n_epochs=10, clip_range=0.2, ent_coef=0.0,
+                policy_kwargs={"net_arch": [64, 64]}, seed=args.seed, verbose=0, device="cpu")
+    curve = []  # (environment steps, episode return)
+
+    from stable_baselines3.common.callbacks import BaseCallback
+
+    class Curve(BaseCallback):
+        def _on_step(self) -> bool:
+            for info in self.locals["infos"]:
+                if "episode" in info:
+                    curve.append((self.num_timesteps, float(info["episode"]["r"])))
+            return True
+
+    model.learn(total_timesteps=args.timesteps, callback=Curve(), progress_bar=False)
+    train_s = time.perf_counter() - t0
+    model.save(out / "policy.zip")
+    venv.save(out / "vecnormalize.pkl")
+    venv.training = False
+    venv.norm_reward = False
+    ev = evaluate(model, venv, range(EVAL_SEED0, EVAL_SEED0 + args.eval_seeds))
+    venv.close()
+    ev.update({"timesteps": args.timesteps, "envs": args.envs, "train_wall_s": round(train_s, 1),
+               "curve": curve})
+    (out / "evaluation.json").write_text(json.dumps(ev, indent=1))
+    _plot_curve(curve, ev, out / "learning_curve.png")
+    print(f"trained {args.timesteps} steps in {train_s / 60:.1f} min on {args.envs} envs")
+    print(f"| controller | mean return | std | (over {args.eval_seeds} seeds from {EVAL_SEED0}) |")
+    print("|---|---|---|---|")
+    print(f"| PPO | {ev['policy_mean']:.1f} | {ev['policy_std']:.1f} | |")
+    print(f"| payout = walker speed (Eq. 30) | {ev['baseline_mean']:.1f} | {ev['baseline_std']:.1f} | |")
+
+
+def _plot_curve(curve, ev, path: Path) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(7, 4))
+    if curve:
+        steps, ret = np.array(curve).T
+        ax.plot(steps, ret, ".", alpha=0.3, color="C0", label="training episodes")
+        k = max(1, len(ret) // 20)
+        if len(ret) >= k:
+            smooth = np.convolve(ret, np.ones(k) / k, mode="valid")
+            ax.plot(steps[k - 1:], smooth, color="C0", label=f"moving mean of {k}")
+    ax.axhline(ev["baseline_mean"], color="C3", ls="--", label="payout = walker speed (evaluation mean)")
+    ax.axhline(ev["policy_mean"], color="C2", ls="-", label="PPO policy (evaluation mean)")
+    ax.set_xlabel("environment steps")
+    ax.set_ylabel("episode return")
+    ax.set_title("PPO on mjtether/TetherWinch-v0")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+if __name__ == "__main__":
+    main()
