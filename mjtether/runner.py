@@ -62,6 +62,8 @@ RECORD_FIELDS = [
 
 
 PREROLL_S = 1.0
+FALLBACK_SUBSTEPS = 4
+"""Pre-roll sub-steps per time step when the run starts from the fallback shape."""
 CONTROL_HZ = 100.0
 """Rate (Hz) at which the gait updates the walker's joint targets."""
 WALKER_STAND_HEIGHT = 0.9
@@ -215,9 +217,15 @@ class ScenarioRun:
             self.tow_site = m.site("walker/tow_point").id
         # pre-roll: soft contacts carry the laid cable's (and the walker's) weight only once they
         # are pressed in; PREROLL_S of standing still lets them load, then t is reset to 0
-        for _ in range(max(1, int(round(PREROLL_S / dt)))):
-            self._drive(dt, 0.0, 0.0)
-            self.sim.step()
+        # (a fallback start is far from equilibrium: it settles with finer steps)
+        sub = 1 if self.initial is not None else FALLBACK_SUBSTEPS
+        m.opt.timestep = dt / sub
+        try:
+            for _ in range(max(1, int(round(PREROLL_S / dt))) * sub):
+                self._drive(dt / sub, 0.0, 0.0)
+                self.sim.step()
+        finally:
+            m.opt.timestep = dt
         self.sim.data.time = 0.0
         self.sim.forward()
         self.ship_mocap = m.body("ship").mocapid[0]
