@@ -13,11 +13,11 @@ Importing this package registers:
 
 from gymnasium.envs.registration import register, registry
 
-from .baselines import FollowPayout, SteerToGoal
+from .baselines import FollowPayout, SlantRangePayout, SteerToGoal
 from .tether_winch import TetherWinchEnv
 from .tethered_walker import TetheredWalkerEnv
 
-__all__ = ["TetherWinchEnv", "TetheredWalkerEnv", "FollowPayout", "SteerToGoal"]
+__all__ = ["TetherWinchEnv", "TetheredWalkerEnv", "FollowPayout", "SlantRangePayout", "SteerToGoal"]
 
 for _id, _entry, _steps in (("mjtether/TetherWinch-v0", "mjtether.envs.tether_winch:TetherWinchEnv", 600),
                             ("mjtether/TetheredWalker-v0", "mjtether.envs.tethered_walker:TetheredWalkerEnv", 900)):

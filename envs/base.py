@@ -32,7 +32,18 @@ def _check(name: str, value, lo: float, hi: float, unit: str = "") -> float:
 
 
 class TetherEnv(gym.Env):
-    """Base class; subclasses define ``_robot_section``, the spaces, ``_get_obs`` and the reward."""
+    """Base class; subclasses define ``_robot_section``, the spaces, ``_get_obs`` and the reward.
+
+    Keyword arguments (SI units): ``depth`` of the seabed; the tether's starting
+    ``tether_length``, ``segments``, ``diameter``, ``cable_density`` and ``EA``; the winch's
+    ``min_length`` (default depth + 5 m), ``max_length`` and ``max_rate``; the tether's
+    ``rated_load`` (N, the episode ends above it); ``current_max_kn`` (largest surface current
+    drawn); ``start_distance`` of the walker from the ship; MuJoCo's ``timestep`` and
+    ``frame_skip`` steps per environment step; ``reset_noise_scale`` (relative spread of the
+    starting length); ``render_mode`` (None or "rgb_array"), ``width``, ``height`` and
+    ``default_camera_config`` ({"camera": "track" | "side" | "top" | "walker",
+    "tension_scale": N}, see ``mjtether.render``).
+    """
 
     metadata = {"render_modes": ["rgb_array"], "render_fps": 10}
 

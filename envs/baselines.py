@@ -38,3 +38,18 @@ class SteerToGoal:
         _, _, v = e.robot_kinematics()
         return np.array([speed, np.clip(self.k_turn * err, -1.0, 1.0),
                          np.clip(float(np.hypot(*v)) / e.max_rate, -1.0, 1.0)], dtype=np.float32)
+
+
+class SlantRangePayout:
+    """``TetherWinch-v0``, a stronger reference than Eq. 30: pay out at the rate the straight
+    line from the ship to the tow point lengthens, d/dt sqrt(r^2 + h^2) = v_r r / sqrt(r^2 + h^2)
+    (v_r: the walker's range rate, r: its horizontal distance, h: the tow point's depth), so that
+    a steep tether is not over-paid."""
+
+    def __call__(self, env) -> np.ndarray:
+        e = env.unwrapped
+        tow, _, v = e.robot_kinematics()
+        r = float(np.hypot(tow[0], tow[1]))
+        radial = float(v @ (tow[:2] / max(r, 1e-9)))
+        rate = radial * r / math.hypot(r, tow[2])
+        return np.array([np.clip(rate / e.max_rate, -1.0, 1.0)], dtype=np.float32)

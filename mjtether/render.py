@@ -266,7 +266,7 @@ class FrameRenderer:
             if g is not None:
                 mujoco.mjv_connector(g, mujoco.mjtGeom.mjGEOM_CAPSULE, width, x[i], x[i + 1])
 
-    def _add_water(self, x: np.ndarray, view: float) -> None:
+    def _add_water_and_current(self, x: np.ndarray, view: float) -> None:
         centre, size = self._extent(x)
         half = max(size, view) * 1.5
         # (seen from above, the surface would veil the whole picture)
@@ -318,9 +318,8 @@ class FrameRenderer:
         mujoco.mjv_updateScene(m, d, self.opt, None, self.cam, mujoco.mjtCatBit.mjCAT_ALL, self.scene)
         width = max(r.tether_spec.diameter / 2, 0.0025 * view)
         self._add_tether(x, r.bt.tension(d), width)
-        self._add_water(x, view)
-        # underwater haze: fog in the water's colour from about the viewing distance on (it
-        # also colours the background)
+        self._add_water_and_current(x, view)
+        # underwater haze: fog in the water's colour from about the viewing distance on
         m.vis.map.fogstart = 1.0 * view / m.stat.extent
         m.vis.map.fogend = 4.0 * view / m.stat.extent
         mujoco.mjr_setBuffer(mujoco.mjtFramebuffer.mjFB_OFFSCREEN, self.ctx)

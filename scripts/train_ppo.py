@@ -22,7 +22,7 @@ import gymnasium as gym
 import numpy as np
 
 import mjtether.envs  # noqa: F401 - registers the environments
-from mjtether.envs import FollowPayout
+from mjtether.envs import FollowPayout, SlantRangePayout
 
 ENV_ID = "mjtether/TetherWinch-v0"
 EVAL_SEED0 = 10_000  # evaluation seeds: EVAL_SEED0 .. EVAL_SEED0 + n - 1, never used in training
@@ -39,18 +39,36 @@ def episode_return(env, act, seed: int) -> float:
     return total
 
 
+REFERENCES = {"baseline": FollowPayout(), "slant_range": SlantRangePayout(),
+              "fixed": lambda e: np.zeros(1, dtype=np.float32)}
+"""Hand-written controllers evaluated beside the policy: the required baseline (the paper's
+Eq. 30), a geometric payout rule, and a winch that never moves."""
+
+
 def evaluate(model, vecnorm, seeds) -> dict:
     env = gym.make(ENV_ID)
-    baseline = FollowPayout()
+    out = {"seeds": list(seeds)}
     try:
-        policy = [episode_return(env, lambda o, e: model.predict(vecnorm.normalize_obs(o), deterministic=True)[0], s)
-                  for s in seeds]
-        rule = [episode_return(env, lambda o, e: baseline(e), s) for s in seeds]
+        out["policy"] = [episode_return(
+            env, lambda o, e: model.predict(vecnorm.normalize_obs(o), deterministic=True)[0], s) for s in seeds]
+        for name, ctrl in REFERENCES.items():
+            out[name] = [episode_return(env, lambda o, e: ctrl(e), s) for s in seeds]
     finally:
         env.close()
-    return {"seeds": list(seeds), "policy": policy, "baseline": rule,
-            "policy_mean": float(np.mean(policy)), "policy_std": float(np.std(policy)),
-            "baseline_mean": float(np.mean(rule)), "baseline_std": float(np.std(rule))}
+    for name in ["policy", *REFERENCES]:
+        out[f"{name}_mean"] = float(np.mean(out[name]))
+        out[f"{name}_std"] = float(np.std(out[name]))
+    return out
+
+
+def table(ev: dict) -> str:
+    n = len(ev["seeds"])
+    rows = [("PPO policy (deterministic)", "policy"), ("payout = walker speed (Khan Eq. 30), the baseline", "baseline"),
+            ("payout = slant-range rate", "slant_range"), ("winch stopped", "fixed")]
+    lines = [f"| controller | mean return | std | (over {n} seeds, {ev['seeds'][0]}..{ev['seeds'][-1]}) |",
+             "|---|---:|---:|---|"]
+    lines += [f"| {label} | {ev[key + '_mean']:.1f} | {ev[key + '_std']:.1f} | |" for label, key in rows]
+    return "\n".join(lines)
 
 
 def main(argv=None):
@@ -60,6 +78,7 @@ def main(argv=None):
     ap.add_argument("--eval-seeds", type=int, default=20)
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--out", default="results/ppo")
+    ap.add_argument("--evaluate-only", action="store_true", help="load --out's policy and evaluate it again")
     args = ap.parse_args(argv)
     try:
         from stable_baselines3 import PPO
@@ -72,6 +91,8 @@ def main(argv=None):
     torch.set_num_threads(1)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
+    if args.evaluate_only:
+        return _evaluate_only(out, args.eval_seeds)
     t0 = time.perf_counter()
     vec_cls = SubprocVecEnv if args.envs > 1 else None
     venv = make_vec_env(ENV_ID, n_envs=args.envs, seed=args.seed, vec_env_cls=vec_cls)
@@ -104,10 +125,23 @@ def main(argv=None):
     (out / "evaluation.json").write_text(json.dumps(ev, indent=1))
     _plot_curve(curve, ev, out / "learning_curve.png")
     print(f"trained {args.timesteps} steps in {train_s / 60:.1f} min on {args.envs} envs")
-    print(f"| controller | mean return | std | (over {args.eval_seeds} seeds from {EVAL_SEED0}) |")
-    print("|---|---|---|---|")
-    print(f"| PPO | {ev['policy_mean']:.1f} | {ev['policy_std']:.1f} | |")
-    print(f"| payout = walker speed (Eq. 30) | {ev['baseline_mean']:.1f} | {ev['baseline_std']:.1f} | |")
+    print(table(ev))
+
+
+def _evaluate_only(out: Path, n_seeds: int) -> None:
+    from stable_baselines3 import PPO
+    from stable_baselines3.common.env_util import make_vec_env
+    from stable_baselines3.common.vec_env import VecNormalize
+
+    vecnorm = VecNormalize.load(str(out / "vecnormalize.pkl"), make_vec_env(ENV_ID, n_envs=1))
+    vecnorm.training, vecnorm.norm_reward = False, False
+    model = PPO.load(out / "policy.zip", device="cpu")
+    old = json.loads((out / "evaluation.json").read_text()) if (out / "evaluation.json").exists() else {}
+    ev = evaluate(model, vecnorm, range(EVAL_SEED0, EVAL_SEED0 + n_seeds))
+    ev.update({k: old[k] for k in ("timesteps", "envs", "train_wall_s", "curve") if k in old})
+    (out / "evaluation.json").write_text(json.dumps(ev, indent=1))
+    _plot_curve(ev.get("curve", []), ev, out / "learning_curve.png")
+    print(table(ev))
 
 
 def _plot_curve(curve, ev, path: Path) -> None:
@@ -125,6 +159,8 @@ def _plot_curve(curve, ev, path: Path) -> None:
             smooth = np.convolve(ret, np.ones(k) / k, mode="valid")
             ax.plot(steps[k - 1:], smooth, color="C0", label=f"moving mean of {k}")
     ax.axhline(ev["baseline_mean"], color="C3", ls="--", label="payout = walker speed (evaluation mean)")
+    if "slant_range_mean" in ev:
+        ax.axhline(ev["slant_range_mean"], color="C1", ls=":", label="payout = slant-range rate (evaluation mean)")
     ax.axhline(ev["policy_mean"], color="C2", ls="-", label="PPO policy (evaluation mean)")
     ax.set_xlabel("environment steps")
     ax.set_ylabel("episode return")

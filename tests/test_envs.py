@@ -172,6 +172,6 @@ def test_ppo_training_script_smoke(tmp_path):
                         "--eval-seeds", "1", "--envs", "1", "--out", str(tmp_path)],
                        capture_output=True, text=True, timeout=600)
     assert r.returncode == 0, r.stderr[-2000:]
-    assert "| PPO |" in r.stdout
+    assert "| PPO policy" in r.stdout and "Eq. 30" in r.stdout
     assert {"policy.zip", "vecnormalize.pkl", "learning_curve.png", "evaluation.json"} <= {
         p.name for p in tmp_path.iterdir()}
