@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import mujoco
 import numpy as np
@@ -248,16 +248,43 @@ class ScenarioRun:
         depth = min(-self.seabed_z(robot[0], robot[1]) - radius, -robot[2])
         water = wm.WaterColumn(depth=depth, density=self.water.density,
                                current=self.water.current, gravity=self.water.gravity)
-        try:
-            ss = initial_state(self.tether_spec, water, top, robot, timestep=dt, seabed=True,
-                               seabed_friction=self.sc["tether"]["seabed_friction"])
-        except (RuntimeError, ValueError) as exc:
-            return None, f"a hanging and laid line (no steady state: {exc})"
+        ss, note = self._solve_start(water, top, robot, dt)
+        if ss is None:
+            return None, note
         x = ss.nodes
         below = float(np.max(self.seabed_z(x[:, 0], x[:, 1]) + radius - x[:, 2]))
         if below > self.tether_spec.diameter:
             return None, f"a hanging and laid line (the steady state crosses the sloped seabed by {below:.2f} m)"
-        return ss, "quasi-static steady state"
+        return ss, note
+
+    def _solve_start(self, water, top, robot, dt):
+        """``initial_state`` for the scenario's tether, with two retries: the laid part's tension
+        has a kink where seabed friction takes it all, and a coarse tether's touchdown jumps
+        from element to element; either can stall Newton. So: as given; then without friction
+        (MuJoCo's soft friction does not hold a laid tension gradient for long anyway); then
+        with 4N elements, keeping every 4th node (the same material points). Returns (state,
+        note) or (None, why)."""
+        cb = self.sc["tether"]["seabed_friction"]
+        spec = self.tether_spec
+        tries = [(1, cb, "")]
+        if cb > 0:
+            tries.append((1, 0.0, " without seabed friction"))
+        tries += [(4, cb, f" solved with {4 * spec.segments} elements")]
+        first = None
+        for k, friction, how in tries:
+            try:
+                ss = initial_state(replace(spec, segments=k * spec.segments), water, top, robot, timestep=dt,
+                                   seabed=True, seabed_friction=friction)
+            except RuntimeError as exc:  # Newton stalled: try the next way
+                first = first or exc
+                continue
+            except ValueError as exc:  # no straight-laid steady state exists
+                return None, f"a hanging and laid line (no steady state: {exc})"
+            if k > 1:
+                ss = replace(ss, nodes=ss.nodes[::k].copy(), velocity=ss.velocity[::k].copy(),
+                             tension=ss.tension.reshape(-1, k).mean(axis=1), jacobian=None)
+            return ss, "quasi-static steady state" + (f"{how} (as given: {first})" if how else "")
+        return None, f"a hanging and laid line (no steady state: {first})"
 
     def _fallback_nodes(self, top, robot) -> np.ndarray:
         """A start that stays above the seabed when there is no steady state: the cable hangs
