@@ -258,18 +258,18 @@ class ScenarioRun:
         return ss, note
 
     def _solve_start(self, water, top, robot, dt):
-        """``initial_state`` for the scenario's tether, with two retries: the laid part's tension
+        """``initial_state`` for the scenario's tether, with retries: the laid part's tension
         has a kink where seabed friction takes it all, and a coarse tether's touchdown jumps
-        from element to element; either can stall Newton. So: as given; then without friction
-        (MuJoCo's soft friction does not hold a laid tension gradient for long anyway); then
-        with 4N elements, keeping every 4th node (the same material points). Returns (state,
-        note) or (None, why)."""
+        from element to element; either can stall Newton. So: as given; with 4N elements,
+        keeping every 4th node (the same material points); then both without friction
+        (MuJoCo's soft friction does not hold a laid tension gradient for long anyway).
+        Returns (state, note) or (None, why)."""
         cb = self.sc["tether"]["seabed_friction"]
         spec = self.tether_spec
-        tries = [(1, cb, "")]
+        n4 = f" solved with {4 * spec.segments} elements"
+        tries = [(1, cb, ""), (4, cb, n4)]
         if cb > 0:
-            tries.append((1, 0.0, " without seabed friction"))
-        tries += [(4, cb, f" solved with {4 * spec.segments} elements")]
+            tries += [(1, 0.0, " without seabed friction"), (4, 0.0, n4 + " without seabed friction")]
         first = None
         for k, friction, how in tries:
             try:
