@@ -89,22 +89,31 @@ def _load(path):
 DEFAULT_SCENARIO = Path(__file__).resolve().parent / "scenarios" / "default.toml"
 
 
-def _run(args) -> int:
+def _simulate(sc: dict, command: str, what: str, **kw):
+    """``runner.run`` with a progress bar; returns its result, or None after printing why it
+    failed (``what``: what the failure leaves unwritten)."""
     from tqdm import tqdm
 
-    from . import results
     from .runner import RunFailed, run
     from .simulation import SimulationDiverged
+
+    bar = tqdm(total=int(round(sc["simulation"]["duration"] / sc["simulation"]["timestep"])), unit="step",
+               desc=f"mjtether {command}", leave=False)
+    try:
+        return run(sc, progress=lambda k, n: bar.update(k - bar.n), **kw)
+    except (RunFailed, SimulationDiverged, ValueError, RuntimeError) as exc:
+        print(f"mjtether {command}: failed, no {what} written: {exc}", file=sys.stderr)
+        return None
+    finally:
+        bar.close()
+
+
+def _run(args) -> int:
+    from . import results
 
     sc = _load(args.scenario)
     if sc is None:
         return 2
-    bar = tqdm(total=int(round(sc["simulation"]["duration"] / sc["simulation"]["timestep"])), unit="step",
-               desc="mjtether run", leave=False)
-
-    def progress(k, n):
-        bar.update(k - bar.n)
-
     video, extra = None, {}
     if args.video:
         out_dir = Path(args.out)
@@ -113,17 +122,13 @@ def _run(args) -> int:
         try:
             video = _video_factory(args, staged)
         except ValueError as exc:
-            bar.close()
             print(f"mjtether run: {exc}", file=sys.stderr)
             return 2
         extra = {name: staged}
-    try:
-        rows, nodes, info = run(sc, progress=progress, video=video)
-    except (RunFailed, SimulationDiverged, ValueError, RuntimeError) as exc:
-        bar.close()
-        print(f"mjtether run: failed, no results written: {exc}", file=sys.stderr)
+    done = _simulate(sc, "run", "results", video=video)
+    if done is None:
         return 1
-    bar.close()
+    rows, nodes, info = done
     if "video" in info:
         info["video"]["file"] = next(iter(extra))  # its name inside the results folder
     try:
@@ -141,11 +146,6 @@ def _run(args) -> int:
 
 
 def _render(args) -> int:
-    from tqdm import tqdm
-
-    from .runner import RunFailed, run
-    from .simulation import SimulationDiverged
-
     sc = _load(args.scenario)
     if sc is None:
         return 2
@@ -159,15 +159,10 @@ def _render(args) -> int:
     except ValueError as exc:
         print(f"mjtether render: {exc}", file=sys.stderr)
         return 2
-    bar = tqdm(total=int(round(sc["simulation"]["duration"] / sc["simulation"]["timestep"])), unit="step",
-               desc="mjtether render", leave=False)
-    try:
-        _, _, info = run(sc, progress=lambda k, n: bar.update(k - bar.n), keep_nodes=False, video=video)
-    except (RunFailed, SimulationDiverged, ValueError, RuntimeError) as exc:
-        bar.close()
-        print(f"mjtether render: failed, no video written: {exc}", file=sys.stderr)
+    done = _simulate(sc, "render", "video", keep_nodes=False, video=video)
+    if done is None:
         return 1
-    bar.close()
+    info = done[2]
     v = info["video"]
     print(f"{v['frames']} frames ({info['simulated_s']:.1f} s at {v['fps']:g} fps, camera {v['camera']}) in "
           f"{info['wall_time_s']:.1f} s; tension colours 0-{v['tension_scale_N']:g} N; wrote {v['file']}")
