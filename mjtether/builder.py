@@ -12,29 +12,49 @@ ball-joint sub-chains of 5, ``connect``         227 us     456 us     942 us
 =============================================  =========  =========  =========
 
 All three are O(N) (a single ball-joint tree is O(N^3): 2.2 ms at N = 100). We keep the
-**1-D flex**: 2.2 times cheaper than free capsules, one constraint row per element instead of
-three, a diagonal mass matrix, and it is the lumped-mass discretisation that MoorDyn and
-Hong et al. (003_25e034c98571ae2e.txt) use. Each element is a capsule of the cable's
-diameter (the flex radius) for rendering and contact; each node is a body with three world
-slide joints carrying the lumped mass (half of each adjacent element).
+lumped-mass chain of the 1-D flex: a diagonal mass matrix, one constraint row per element,
+and the discretisation that MoorDyn and Hong et al. (2020) use. Each node is a body with
+three world slide joints carrying the lumped mass (half of each adjacent element); the flex
+gives every element a capsule of the cable's diameter for rendering and seabed contact.
 
-Elongation is physical. The flex's edge-length equality is a soft constraint; in static
-equilibrium MuJoCo's soft constraint stretches by r = R f / (k imp), with R = (1 - d)/d * A_hat
-(A_hat = ``efc_diagA``, 2/m for an edge between free nodes of mass m; measured after
-compiling, since MuJoCo derives it from ``body_invweight0``) and
-k imp = S / d for a negative ``solref = (-S, -B)`` and constant impedance d. So an element
-of stiffness EA / l needs S = (EA / l) (1 - d) A_hat. The impedance d then sets how fast the
-axial mode rings: d -> 0 is a plain explicit spring at the physical frequency
-omega_ax = sqrt(2 EA / (m l)); d -> 1 slows it. We take the physical frequency when the time
-step resolves it (omega_ax dt <= 0.5) and otherwise slow the axial mode to 0.5 / dt, which
-keeps the static stretch T l / EA exact and the step stable. ``EA=None`` (inextensible)
-uses d = 0.9999, the stiffest MuJoCo allows at that step: strain < 1e-3 at working tension
-(reported by ``TetherModel.effective_EA``).
+**Tension only.** Each element is a spatial tendon between the sites of its two nodes with an
+upper length limit at its rest length and a soft ``solreflimit``: MuJoCo's limit constraint is
+one-sided, so a taut element pulls and a slack one carries nothing, as cable (and MoorDyn's and
+OrcaFlex's segments) do. The flex's own edge equality, which we used before, is two-sided: slack
+elements pushed, and compression spikes appeared as tension wherever payout laid cable down.
+Cost against the equality (N = 200, all elements taut): 260 against 245 us per step; slack
+elements have no constraint row at all. Bending stiffness ``EI`` is a separate passive force
+(``hydro.bending_forces``), not part of the element force.
 
-Ends: every end is a node body of half an element's mass, joined to its support (a world
-site for a fixed point, a site on the ship or robot) by a stiff ``connect`` equality whose
-force is the force of the tether on that support. Keeping the end nodes free makes every
-element's constraint row alike, so one ``solref`` gives every element the same EA / l.
+Elongation is physical. In static equilibrium MuJoCo's soft constraint stretches by
+r = R f / (k imp), with R = (1 - d)/d * A (A = ``efc_diagA``, which for a tendon limit is
+``tendon_invweight0``: we set it to the element's true inverse mass along its axis,
+1/m_i + 1/m_(i+1)), and k imp = S / d for a negative ``solref = (-S, -B)`` and constant
+impedance d. So an element of stiffness K = EA / l needs S = K (1 - d) A. The impedance d sets
+how fast the axial mode rings: d -> 0 is a plain spring at the physical frequency
+omega_ax = sqrt(K A); d -> 1 slows it. We keep the physical frequency when the time step
+resolves it (omega_ax dt <= 0.5) and otherwise slow the axial mode to 0.5 / dt, which keeps
+the static stretch T l / EA exact and the step stable. Where even d = 0.9999 (MuJoCo's
+largest impedance) cannot slow it enough, the element is made as stiff as that step allows
+and no stiffer: its effective EA is lower than asked (``effective_EA``); ``EA=None``
+(inextensible) always takes that limit (strain < 1e-3 at working tension).
+
+**Payout at the drum.** A compiled model cannot grow, so ``add_tether`` allocates nodes for
+``max_length``: the cable is numbered from the drum's core (node 0) to the robot end (node n),
+and only nodes ``first`` .. n are deployed. Node ``first`` sits at the fairlead, held there by
+its own ``connect`` equality (one per node, switched through ``eq_active``); the element next
+to it, the drum element, has a rest length between 0.5 and 1.5 of the nominal element length
+l0 = L / N and takes all payout and reel-in; every other deployed element keeps l0. Paying out
+past 1.5 l0 releases the next node from the drum (the drum element splits into one of l0 and
+a new drum element of the rest); reeling in below 0.5 l0 takes a node back (the drum element
+merges with its neighbour). Nodes on the drum are parked: no equality, no element constraint,
+no hydrodynamic force, gravity compensated, at rest; they cost a few microseconds a step.
+``BoundTether.set_length`` does this at run time.
+
+Ends: every end is a node body, joined to its support (a world site for a fixed point, a site
+on the ship or robot) by a stiff ``connect`` equality whose force is the force of the tether on
+that support. The end nodes get armature up to an interior node's inertia (it sits at a
+support and weighs nothing) so that their constraints are as well conditioned as the rest.
 
 Added mass: the normal added mass C_a rho A l of each element is lumped on its nodes as
 armature of the three slide joints, which MuJoCo integrates implicitly. Armature is
@@ -105,52 +125,58 @@ Anchor = FixedPoint | BodyPoint | SitePoint | FreeEnd
 
 @dataclass(frozen=True)
 class AxialParams:
-    """MuJoCo parameters of the edge-length constraint (see module docstring)."""
+    """MuJoCo parameters of the element length limits (see module docstring); scalars, or
+    arrays with one value per element.
 
-    solref: tuple
-    solimp: tuple
-    stiffness: float  # static element stiffness K = EA_eff / l (N/m)
-    omega: float  # axial-mode frequency given to the solver (rad/s)
-    omega_physical: float  # sqrt(2 EA / (m l)) (rad/s); inf when inextensible
-
-    def effective_EA(self, segment_length: float) -> float:
-        return self.stiffness * segment_length
-
-
-def axial_params(EA: float | None, segment_length: float, node_mass: float, timestep: float,
-                 damping_ratio: float = 1.0, diag_a: float | None = None) -> AxialParams:
-    """Solver parameters so that an element of length ``segment_length`` (m) between nodes of
-    ``node_mass`` (kg) stretches by T l / EA, stably at ``timestep`` (s).
-
-    ``diag_a`` is MuJoCo's ``efc_diagA`` for one element row (1/kg); by default 2 / m, the
-    value MuJoCo 4 computes for an edge between two free nodes. ``Simulation`` measures it
-    after compiling and retunes the constraint with the measured value.
+    Attributes:
+        S, B: ``solreflimit = (-S, -B)`` (1/s^2, 1/s).
+        d: constant impedance (``solimplimit = (d, d, 0.001, 0.5, 2)``).
+        stiffness: static element stiffness K = EA_eff / l (N/m).
+        omega: axial-mode frequency given to the solver (rad/s).
+        omega_physical: sqrt(K_EA A) of the element as asked (rad/s); inf when inextensible.
     """
-    a_true = 2.0 / node_mass  # relative inverse mass of the two nodes along the edge
-    a_hat = a_true if diag_a is None else diag_a
+
+    S: np.ndarray
+    B: np.ndarray
+    d: np.ndarray
+    stiffness: np.ndarray
+    omega: np.ndarray
+    omega_physical: np.ndarray
+
+    @property
+    def solref(self):
+        return np.stack([-np.asarray(self.S, float), -np.asarray(self.B, float)], axis=-1)
+
+    @property
+    def solimp(self):
+        d = np.asarray(self.d, float)
+        return np.stack([d, d, np.full_like(d, 0.001), np.full_like(d, 0.5), np.full_like(d, 2.0)], axis=-1)
+
+    def effective_EA(self, segment_length) -> np.ndarray:
+        """Axial stiffness (N) the solver realises in statics for elements of ``segment_length``."""
+        return np.asarray(self.stiffness) * segment_length
+
+
+def axial_params(EA: float | None, segment_length, inv_mass, timestep: float,
+                 damping_ratio: float = 1.0) -> AxialParams:
+    """Limit-constraint parameters so that elements of rest length ``segment_length`` (m) whose
+    nodes have the inverse mass ``inv_mass`` along the element (1/m_i + 1/m_(i+1), 1/kg; also
+    the ``tendon_invweight0`` MuJoCo is given) stretch by T l / EA, stably at ``timestep`` (s).
+    Arguments broadcast (one value per element)."""
+    l = np.asarray(segment_length, dtype=float)
+    a = np.asarray(inv_mass, dtype=float)
     omega_cap = AXIAL_OMEGA_DT / timestep
-    if EA is None:
-        d = MAX_IMP
-        x = 1.0 - d
-        c = a_true / (d * a_true + x * a_hat)
-        S = omega_cap**2 / c
-        K = S / (x * a_hat)
-        omega_phys = math.inf
-    else:
-        K = EA / segment_length
-        omega_phys = math.sqrt(K * a_true)
-        q = min(1.0, (omega_cap / omega_phys) ** 2)
-        # omega^2 = omega_phys^2 x / (r (1 - x) + x) with r = a_true / a_hat; solve for x
-        r = a_true / a_hat
-        x = r * q / (1.0 + q * (r - 1.0))
-        d = min(max(1.0 - x, MIN_IMP), MAX_IMP)
-        x = 1.0 - d
-        S = K * x * a_hat
-        c = a_true / (d * a_true + x * a_hat)
-    omega = math.sqrt(c * S)
-    B = 2.0 * damping_ratio * omega / c
-    return AxialParams(solref=(-S, -B), solimp=(d, d, 0.001, 0.5, 2.0), stiffness=K,
-                       omega=omega, omega_physical=omega_phys)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        K = np.full(np.broadcast(l, a).shape, np.inf) if EA is None else EA / np.maximum(l, 1e-12)
+        omega_phys = np.sqrt(K * a)
+        x = np.clip((omega_cap / omega_phys) ** 2, 1.0 - MAX_IMP, 1.0 - MIN_IMP)  # x = 1 - d
+        d = 1.0 - x
+        # the physical frequency where d can give it, else the cap (the element is then softer)
+        S = np.minimum(K * x * a, omega_cap**2)
+        stiffness = S / (x * a)
+    omega = np.sqrt(S)
+    B = np.atleast_1d(2.0 * damping_ratio * omega) if np.ndim(omega) else 2.0 * damping_ratio * omega
+    return AxialParams(S=S, B=B, d=d, stiffness=stiffness, omega=omega, omega_physical=omega_phys)
 
 
 # ------------------------------------------------------------------------------ seabed
@@ -196,7 +222,9 @@ def add_seabed(spec: mujoco.MjSpec, water: WaterColumn, *, friction: float = 0.6
 class TetherModel:
     """What ``add_tether`` put in the spec: names, masses and parameters.
 
-    Node i (0..N) is a flex vertex carried by the body ``node_bodies[i]``.
+    Nodes are numbered from the drum's core (0) to the robot end (``n``); element j joins nodes
+    j and j+1 and is the same piece of cable for the whole run. Nodes ``first`` .. n are
+    deployed at the start (``first`` at the fairlead); 0 .. first-1 wait on the drum.
     """
 
     name: str
@@ -204,24 +232,22 @@ class TetherModel:
     start: Anchor
     end: Anchor
     node_bodies: list
-    node_mass: np.ndarray  # kg, per node
-    added_mass: np.ndarray  # kg, per node (isotropic armature)
-    axial: AxialParams
-    initial_nodes: np.ndarray
-    connects: dict = field(default_factory=dict)  # "start"/"end" -> equality name
+    n: int  # elements allocated, drum included
+    first: int  # the node at the fairlead at the start
+    nominal_length: float  # l0 = L / N (m)
+    initial_nodes: np.ndarray  # (n+1, 3), parked nodes at the start anchor
+    connects: dict = field(default_factory=dict)  # "end" -> equality name; "start": one per node
+    max_length: float = 0.0
 
     @property
     def flex(self) -> str:
         return f"{self.name}"
 
-    @property
-    def edge_equality(self) -> str:
-        return f"{self.name}/stretch"
+    def element_tendon(self, j: int) -> str:
+        return f"{self.name}/element{j}"
 
-    @property
-    def effective_EA(self) -> float:
-        """Axial stiffness the solver realises in statics (N): EA, or the inextensible limit."""
-        return self.axial.effective_EA(self.spec.segment_length)
+    def drum_connect(self, i: int) -> str:
+        return f"{self.name}/drum{i}"
 
 
 def anchor_position(spec: mujoco.MjSpec, anchor: Anchor) -> np.ndarray | None:
@@ -244,6 +270,15 @@ def anchor_position(spec: mujoco.MjSpec, anchor: Anchor) -> np.ndarray | None:
     return data.site_xpos[sid].copy()
 
 
+def drum_capacity(tether: TetherSpec, max_length: float | None) -> int:
+    """Elements to allocate so that the drum can pay out to ``max_length`` (m) with every
+    element but the drum element at the nominal length and the drum element at most 1.5 of it."""
+    if max_length is None or max_length <= tether.length:
+        return tether.segments
+    l0 = tether.segment_length
+    return max(tether.segments, int(math.ceil(max_length / l0 - 0.5)) + 1)
+
+
 def add_tether(
     spec: mujoco.MjSpec,
     tether: TetherSpec,
@@ -255,17 +290,22 @@ def add_tether(
     name: str = "tether",
     rgba=(0.95, 0.6, 0.1, 1.0),
     seabed_friction: float | None = None,
+    max_length: float | None = None,
 ) -> TetherModel:
-    """Add ``tether`` to ``spec`` between ``start`` (node 0, the ship end) and ``end``.
+    """Add ``tether`` to ``spec`` between ``start`` (the ship end, where its drum is) and ``end``.
 
     Args:
         spec: the model to add to; its ``option.timestep`` must already be set.
         water: sets the density of the added mass (default: 1025 kg/m^3 everywhere).
-        nodes: initial node positions (N+1, 3) in m; default: a catenary-shaped curve of the
-            tether's length between the ends (straight down from ``start`` for a free end).
+        nodes: initial positions (m) of the N+1 deployed nodes, shape (N+1, 3), the first at
+            ``start``; default: a catenary-shaped curve of the tether's length between the ends
+            (straight down from ``start`` for a free end).
         seabed_friction: ``None`` (default) for a tether that touches nothing; a Coulomb
             coefficient (>= 0) to let it rest and slide on the seabed of ``add_seabed`` (and on
             nothing else: robots' legs never snag it).
+        max_length: the longest deployed length (m) a winch may pay out to; cable beyond
+            ``tether.length`` waits on the drum at ``start`` (see the module docstring).
+            Reel-in needs no allowance.
     """
     if seabed_friction is not None:
         _checks.non_negative("seabed_friction", seabed_friction)
@@ -274,8 +314,14 @@ def add_tether(
     for label, a in (("start", start), ("end", end)):
         if not isinstance(a, (FixedPoint, BodyPoint, SitePoint, FreeEnd)):
             raise ValueError(f"{label} must be FixedPoint, BodyPoint, SitePoint or FreeEnd, got {a!r}")
+    if max_length is not None:
+        _checks.in_range("max_length", max_length, 0.0, 1e6, "m")
+        if isinstance(start, FreeEnd) and max_length > tether.length:
+            raise ValueError("max_length: a tether with a free start end has no drum to pay out from")
     dt = _checks.positive("spec.option.timestep", spec.option.timestep, "s")
-    N, L, l = tether.segments, tether.length, tether.segment_length
+    N, L, l0 = tether.segments, tether.length, tether.segment_length
+    n = drum_capacity(tether, max_length)
+    first = n - N
 
     p0 = anchor_position(spec, start)
     p1 = anchor_position(spec, end)
@@ -293,36 +339,27 @@ def add_tether(
         raise ValueError("nodes[-1] must coincide with the end anchor")
     if p0 is not None and np.linalg.norm(nodes[0] - p0) > 1e-6 * max(L, 1.0):
         raise ValueError("nodes[0] must coincide with the start anchor")
+    all_nodes = np.vstack([np.repeat(nodes[:1], first, axis=0), nodes])
 
-    rho = (water.rho if water is not None else (lambda z: np.full(np.shape(z), 1025.0)))(nodes[:, 2])
-    m_el = tether.mu * l
-    node_mass = np.full(N + 1, m_el)
-    node_mass[[0, -1]] = 0.5 * m_el
-    added = tether.ca_normal * rho * tether.area * l
-    # End nodes carry half an element's mass and added mass; armature of the other half makes
-    # their inertia equal to an interior node's, so that MuJoCo's constraint scaling (the
-    # diagonal of J M^-1 J^T) and hence the stiffness EA / l are the same for every element.
-    # The extra inertia sits at a support (or at a free tip) and weighs nothing.
-    armature = added + np.r_[0.5 * (m_el + added[0]), np.zeros(N - 1), 0.5 * (m_el + added[-1])]
-    added[[0, -1]] *= 0.5
+    # masses of the deployed cable; nodes on the drum get an interior node's (they are parked)
+    m_el = tether.mu * l0
     body_names = []
-    for i in range(N + 1):
+    for i in range(n + 1):
         bname = f"{name}/node{i}"
-        b = spec.worldbody.add_body(name=bname, pos=nodes[i])
+        b = spec.worldbody.add_body(name=bname, pos=all_nodes[i])
         b.explicitinertial = True
-        b.mass = node_mass[i]
-        b.inertia = [1e-6 * node_mass[i] * l * l + 1e-12] * 3
+        b.mass = m_el
+        b.inertia = [1e-6 * m_el * l0 * l0 + 1e-12] * 3
+        b.gravcomp = 1.0 if i < first else 0.0
         for axis, ax in zip("xyz", np.eye(3)):
-            b.add_joint(name=f"{bname}/{axis}", type=mujoco.mjtJoint.mjJNT_SLIDE, axis=ax,
-                        armature=float(armature[i]))
-        if i in (0, N):
-            b.add_site(name=f"{name}/{'start' if i == 0 else 'end'}", size=[tether.diameter] * 3)
+            b.add_joint(name=f"{bname}/{axis}", type=mujoco.mjtJoint.mjJNT_SLIDE, axis=ax)
+        b.add_site(name=f"{bname}", size=[tether.diameter] * 3)
         body_names.append(bname)
 
     flex = spec.add_flex(name=name, dim=1, radius=tether.diameter / 2, rgba=list(rgba))
     flex.vertbody = body_names
-    flex.vert = [0.0] * (3 * (N + 1))
-    flex.elem = [k for i in range(N) for k in (i, i + 1)]
+    flex.vert = [0.0] * (3 * (n + 1))
+    flex.elem = [k for i in range(n) for k in (i, i + 1)]
     flex.selfcollide = mujoco.mjtFlexSelf.mjFLEXSELF_NONE
     if seabed_friction is None:  # no contact at all
         flex.contype = 0
@@ -337,13 +374,31 @@ def add_tether(
         flex.solref = [2 * dt, 1.0]
         flex.solimp = [0.99, 0.999, 0.001, 0.5, 2.0]
 
-    axial = axial_params(tether.EA, l, m_el + added[N // 2], dt, tether.axial_damping_ratio)
-    eq = spec.add_equality(name=f"{name}/stretch", type=mujoco.mjtEq.mjEQ_FLEX, name1=name)
-    eq.solref = list(axial.solref)
-    eq.solimp = list(axial.solimp)
+    # element j: a tendon between its nodes' sites held at its rest length by an equality that
+    # BoundTether switches off while the element is slack (tension only); the solver parameters
+    # and rest lengths are set per element by BoundTether once masses are known
+    for j in range(n):
+        t = spec.add_tendon(name=f"{name}/element{j}")
+        t.wrap_site(body_names[j])
+        t.wrap_site(body_names[j + 1])
+        t.rgba = [0.0, 0.0, 0.0, 0.0]
+    for j in range(n):
+        e = spec.add_equality(name=f"{name}/element{j}", type=mujoco.mjtEq.mjEQ_TENDON,
+                              name1=f"{name}/element{j}")
+        e.active = j >= first
 
-    tm = TetherModel(name=name, spec=tether, start=start, end=end, node_bodies=body_names,
-                     node_mass=node_mass, added_mass=added, axial=axial, initial_nodes=nodes)
+    tm = TetherModel(name=name, spec=tether, start=start, end=end, node_bodies=body_names, n=n, first=first,
+                     nominal_length=l0, initial_nodes=all_nodes,
+                     max_length=float(max(L, max_length or 0.0)))
+
+    def connect(name_, site1, site2, active):
+        c = spec.add_equality(name=name_, type=mujoco.mjtEq.mjEQ_CONNECT, objtype=mujoco.mjtObj.mjOBJ_SITE,
+                              name1=site1, name2=site2)
+        c.solref = [2 * dt, 1.0]
+        c.solimp = [MAX_IMP, MAX_IMP, 0.001, 0.5, 2.0]
+        c.active = active
+        return c.name
+
     for label, anchor in (("start", start), ("end", end)):
         if isinstance(anchor, FreeEnd):
             continue
@@ -354,9 +409,8 @@ def add_tether(
             spec.body(anchor.body).add_site(name=site, pos=list(anchor.offset), size=[tether.diameter] * 3)
         else:
             site = anchor.site
-        c = spec.add_equality(name=f"{name}/{label}_connect", type=mujoco.mjtEq.mjEQ_CONNECT,
-                              objtype=mujoco.mjtObj.mjOBJ_SITE, name1=site, name2=f"{name}/{label}")
-        c.solref = [2 * dt, 1.0]
-        c.solimp = [MAX_IMP, MAX_IMP, 0.001, 0.5, 2.0]
-        tm.connects[label] = c.name
+        if label == "end":
+            tm.connects["end"] = connect(f"{name}/end_connect", site, body_names[n], True)
+        else:  # one per node that can sit at the fairlead; the deployed first one is active
+            tm.connects["start"] = [connect(tm.drum_connect(i), site, body_names[i], i == first) for i in range(n)]
     return tm

@@ -128,11 +128,11 @@ def _run(args) -> int:
     done = _simulate(sc, "run", "results", video=video)
     if done is None:
         return 1
-    rows, nodes, info = done
+    rows, history, info = done
     if "video" in info:
         info["video"]["file"] = next(iter(extra))  # its name inside the results folder
     try:
-        out = results.write(args.out, sc, rows, nodes, info, scenario_path=args.scenario, plots=not args.no_plots,
+        out = results.write(args.out, sc, rows, history, info, scenario_path=args.scenario, plots=not args.no_plots,
                             extra_files=extra)
     finally:
         for f in extra.values():

@@ -59,14 +59,18 @@ def tether_loads(
     rho_fn,
     current_fn,
     gravity: float = 9.81,
+    first_share: float = 0.5,
 ) -> np.ndarray:
     """Hydrodynamic loads on the nodes of a tether (N, world frame), shape ``(N+1, 3)``.
 
     Args:
         x, v: node positions (m) and velocities (m/s), shape ``(N+1, 3)``.
-        segment_length: unstretched element length l (m); loads scale with the material
-            length, not the stretched one.
+        segment_length: unstretched element length l (m), or one per element; loads scale with
+            the material length, not the stretched one.
         rho_fn(z) -> rho (kg/m^3), current_fn(z) -> u (m/s, shape z.shape + (3,)).
+        first_share: the part of the first element's load that goes to node 0 (the rest to
+            node 1); every other element shares its load equally (the drum element at a
+            fairlead lumps its mass the same way, see ``simulation.BoundTether``).
     """
     _, _, t = element_geometry(x)
     zc = np.minimum(0.5 * (x[1:, 2] + x[:-1, 2]), 0.0)
@@ -90,6 +94,11 @@ def tether_loads(
     f[1:] += half
     f[:-1, 2] += (1.0 - centre) * fb
     f[1:, 2] += centre * fb
+    if first_share != 0.5:  # move part of element 0's load from node 0 to node 1
+        shift = (1.0 - 2.0 * first_share) * half[0]
+        shift[2] += (1.0 - centre[0] - first_share) * fb[0]
+        f[0] -= shift
+        f[1] += shift
     return f
 
 

@@ -5,7 +5,7 @@ or OSMesa if EGL is missing; ``MUJOCO_GL`` picks one explicitly. Each frame show
 built (seabed, ship, walker), and, drawn into the scene for the frame only:
 
 * the tether as capsules coloured by each element's axial tension on a fixed scale (0 to
-  ``tension_scale`` N, blue to red, the ``turbo`` colour map; compression is drawn grey);
+  ``tension_scale`` N, blue (slack) to red, the ``turbo`` colour map);
 * the water surface as a translucent plane at z = 0;
 * current arrows at a few depths (length proportional to speed, stated in the overlay);
 * a text overlay (time, tow tension, ship-end tension, deployed length) and a colour bar.
@@ -35,7 +35,6 @@ SYSTEM_PACKAGES = {"egl": "libegl1 and libgl1-mesa-dri (Debian/Ubuntu: apt insta
                    "osmesa": "libosmesa6 (Debian/Ubuntu: apt install libosmesa6)"}
 SURFACE_RGBA = (0.25, 0.55, 0.85, 0.25)
 ARROW_RGBA = (0.95, 0.95, 0.95, 0.9)
-COMPRESSION_RGBA = (0.5, 0.5, 0.5, 1.0)
 WATER_RGB = (0.05, 0.22, 0.32)  # haze and background
 
 
@@ -48,15 +47,13 @@ class RenderUnavailable(RuntimeError):
 
 def tension_colours(tension: np.ndarray, scale: float) -> np.ndarray:
     """RGBA (n, 4) for element tensions (N) on the fixed scale [0, ``scale``] N, blue (slack) to
-    red (``scale`` and above), matplotlib's ``turbo`` map; compression is grey."""
+    red (``scale`` and above), matplotlib's ``turbo`` map (elements carry tension only)."""
     from matplotlib import colormaps
 
     if not scale > 0:
         raise ValueError(f"tension scale must be > 0 N, got {scale!r}")
     t = np.asarray(tension, dtype=float)
-    rgba = colormaps["turbo"](np.clip(t / scale, 0.0, 1.0))
-    rgba[t < 0] = COMPRESSION_RGBA
-    return rgba
+    return colormaps["turbo"](np.clip(t / scale, 0.0, 1.0))
 
 
 def nice_scale(value: float) -> float:
@@ -192,7 +189,7 @@ class FrameRenderer:
         self._gl = _gl_context(s.width, s.height)
         self.ctx = mujoco.MjrContext(m, mujoco.mjtFontScale.mjFONTSCALE_100)
         mujoco.mjr_setBuffer(mujoco.mjtFramebuffer.mjFB_OFFSCREEN, self.ctx)
-        self.scene = mujoco.MjvScene(m, maxgeom=m.ngeom + runner.bt.N + s.current_arrows + 100)
+        self.scene = mujoco.MjvScene(m, maxgeom=m.ngeom + runner.bt.n + s.current_arrows + 100)
         if s.tuned:
             for f in (mujoco.mjtRndFlag.mjRND_SHADOW, mujoco.mjtRndFlag.mjRND_REFLECTION,
                       mujoco.mjtRndFlag.mjRND_SKYBOX):
@@ -208,7 +205,7 @@ class FrameRenderer:
         self._rgb = np.zeros((s.height, s.width, 3), dtype=np.uint8)
         self._background = (np.array(WATER_RGB) * 255).astype(np.uint8)
         self.scale = s.tension_scale or self._default_scale()
-        self.legend = f"tether tension colour scale: 0 N (blue) to {self.scale:g} N (red), turbo; grey: compression"
+        self.legend = f"tether tension colour scale: 0 N (blue) to {self.scale:g} N (red), turbo"
         self._closed = False
 
     # ------------------------------------------------------------- frame content

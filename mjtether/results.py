@@ -4,7 +4,11 @@ Files (all SI units; ``docs/scenarios.md`` lists the CSV columns):
 
 * ``timeseries.csv``: one row per output sample, columns ``runner.RECORD_FIELDS`` named
   ``<name>_<unit>``;
-* ``tether.npz``: ``time`` (n,) and ``nodes`` (n, N+1, 3), node positions in m;
+* ``tether.npz``: ``time`` (n,) s; ``nodes`` (n, e+1, 3), node positions in m; ``tension``
+  (n, e), element tensions in N (never negative: elements carry tension only; 0 when slack);
+  ``element_length`` (n, e), stretched element lengths in m. The e elements allocated are
+  numbered from the drum's core to the robot end, so element j is the same piece of cable all
+  run; those still on the drum have length and tension 0, their nodes sit at the fairlead;
 * ``summary.json``: the scenario as read (defaults filled in), final and peak tensions, wall time,
   real-time factor, how the run was started;
 * ``tension.png``, ``profile.png`` (side and top views of tether snapshots), ``track.png``.
@@ -60,10 +64,12 @@ def summary(sc: dict, rows: np.ndarray, info: dict, scenario_path) -> dict:
     }
 
 
-def write(out, sc: dict, rows: np.ndarray, nodes: np.ndarray, info: dict, scenario_path=None,
+def write(out, sc: dict, rows: np.ndarray, history: dict, info: dict, scenario_path=None,
           plots: bool = True, extra_files: dict | None = None) -> Path:
     """Write the results folder ``out`` atomically (replacing an older one); returns its path.
+    ``history`` is ``runner.run``'s (nodes, tension, element_length per sample);
     ``extra_files`` {name: path} are moved into it (e.g. a video rendered during the run)."""
+    nodes = history["nodes"]
     out = Path(out)
     out.parent.mkdir(parents=True, exist_ok=True)
     tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}.partial-", dir=out.parent))
@@ -74,7 +80,8 @@ def write(out, sc: dict, rows: np.ndarray, nodes: np.ndarray, info: dict, scenar
             w.writerow(column_names())
             for r in rows:
                 w.writerow([f"{v:.9g}" for v in r])
-        np.savez_compressed(tmp / "tether.npz", time=rows[:, 0], nodes=nodes)
+        np.savez_compressed(tmp / "tether.npz", time=rows[:, 0], nodes=nodes, tension=history["tension"],
+                            element_length=history["element_length"])
         (tmp / "summary.json").write_text(json.dumps(summary(sc, rows, info, scenario_path), indent=2))
         if plots:
             _plots(tmp, rows, nodes, sc)

@@ -54,10 +54,13 @@ RECORD_FIELDS = [
     ("robot_x", "m", "robot (tow point) position x"),
     ("robot_y", "m", "... y"),
     ("robot_z", "m", "... z"),
-    ("robot_yaw", "rad", "robot heading, from +x towards +y"),
+    ("robot_heading_deg", "deg", "robot heading, from +x towards +y, in (-180, 180]"),
+    ("robot_roll_deg", "deg", "robot roll (about its body x, forward), 0 standing level"),
+    ("robot_pitch_deg", "deg", "robot pitch (about its body y, left), positive nose down"),
     ("robot_speed", "m/s", "robot horizontal speed"),
     ("tether_lowest_z", "m", "height of the tether's lowest node"),
-    ("length_on_seabed", "m", "tether length lying on the seabed (nodes within one diameter of it)"),
+    ("length_on_seabed", "m", "tether length lying on the seabed (elements with both nodes within one diameter of it)"),
+    ("slack_elements", "", "deployed elements carrying no tension"),
 ]
 
 
@@ -69,6 +72,12 @@ CONTROL_HZ = 100.0
 WALKER_STAND_HEIGHT = 0.9
 """Height (m) of the walker's torso above the seabed when it is placed."""
 """Seconds simulated before t = 0 with the ship and winch still (see ``ScenarioRun``)."""
+
+
+def roll_pitch(R: np.ndarray) -> tuple[float, float]:
+    """Roll and pitch (rad) of a body with rotation matrix ``R`` (body to world, z-y-x Euler
+    angles: heading, then pitch about the body's y, then roll about its x)."""
+    return math.atan2(R[2, 1], R[2, 2]), math.asin(max(-1.0, min(1.0, -R[2, 0])))
 
 
 class RunFailed(RuntimeError):
@@ -206,7 +215,8 @@ class ScenarioRun:
         self.initial, self.initial_note = self._initial_state(top, robot, dt)
         nodes = self._fallback_nodes(top, robot) if self.initial is None else self.initial.nodes
         self.tm = builder.add_tether(spec, self.tether_spec, builder.SitePoint("ship/fairlead"), end,
-                                     water=self.water, nodes=nodes, seabed_friction=sc["tether"]["seabed_friction"])
+                                     water=self.water, nodes=nodes, seabed_friction=sc["tether"]["seabed_friction"],
+                                     max_length=self.winch.max_length)
         self.sim = Simulation(spec, self.water, tethers=[self.tm], bodies=bodies)
         self.bt = self.sim.tether()
         m = self.sim.model
@@ -350,7 +360,7 @@ class ScenarioRun:
         fair = self.ship.advance(dt, t, tow)
         sim.data.mocap_pos[self.ship_mocap] = fair
         tension = self.bt.end_tension(sim.data, "start")
-        self.bt.set_length(sim.model, self.winch.advance(dt, t, tension, speed))
+        self.bt.set_length(self.winch.advance(dt, t, tension, speed), rate=self.winch.current_rate)
         sim.step()
         if self.bt.end_tension(sim.data, "start") > self.rated_load:
             raise RunFailed(f"ship-end tension {self.bt.end_tension(sim.data, 'start'):.0f} N exceeded the "
@@ -363,23 +373,34 @@ class ScenarioRun:
         x = self.bt.nodes(d)
         diam = self.tether_spec.diameter
         on = x[:, 2] < self.seabed_z(x[:, 0], x[:, 1]) + diam
-        on_bottom = self.bt.segment_length * float(np.sum(on[1:] & on[:-1]))
+        on_bottom = float(self.bt.rest_lengths[self.bt.first:][on[1:] & on[:-1]].sum())
         ship = d.mocap_pos[self.ship_mocap]
         tow, yaw, speed, R = self.robot_state()
         if self.walker:  # Khan et al. Eq. 38 about the walker's centre of mass
             moment = np.cross(tow - d.subtree_com[self.torso], fe)
         else:
             moment = np.zeros(3)  # an anchor has no centre of mass of its own
+        roll, pitch = roll_pitch(R)
         return [d.time, float(np.linalg.norm(fs)), *fs, float(np.linalg.norm(fe)), *fe, *(R.T @ fe), *moment,
-                self.bt.deployed_length, self.winch.current_rate, ship[0], ship[1], *tow, yaw, speed,
-                float(x[:, 2].min()), on_bottom]
+                self.bt.deployed_length, self.winch.current_rate, ship[0], ship[1], *tow, math.degrees(yaw),
+                math.degrees(roll), math.degrees(pitch), speed, float(x[:, 2].min()), on_bottom,
+                self.bt.slack_count(d)]
+
+    def element_record(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(every node (n+1, 3) m, element tension (n,) N, element length (n,) m), numbered
+        from the drum's core; nodes on the drum at the fairlead, their elements 0."""
+        d = self.sim.data
+        return self.bt.all_nodes(d), self.bt.element_tension(d), self.bt.element_length(d)
 
     def close(self) -> None:
         self.sim.close()
 
 
 def run(sc: dict, progress=None, keep_nodes: bool = True, video=None):
-    """Simulate ``sc``; returns (rows (n, len(RECORD_FIELDS)), node history (n, N+1, 3), info).
+    """Simulate ``sc``; returns (rows (n, len(RECORD_FIELDS)), history, info). ``history`` has
+    ``nodes`` (n, e+1, 3) m, ``tension`` (n, e) N and ``element_length`` (n, e) m for every one
+    of the e elements allocated (numbered from the drum's core; see ``element_record``), each
+    sample (only the first with ``keep_nodes=False``).
     ``progress(k, n)`` is called as it goes. ``video(runner)`` makes a ``render.VideoRecorder``
     for the built run; frames are then taken as they fall due and the file is finished, or
     deleted if the run fails. Raises ``RunFailed`` (or ``SimulationDiverged``)."""
@@ -387,14 +408,14 @@ def run(sc: dict, progress=None, keep_nodes: bool = True, video=None):
     dt = sim_sc["timestep"]
     n_steps = int(round(sim_sc["duration"] / dt))
     every = max(1, int(round(sim_sc["output_interval"] / dt)))
-    rows, nodes = [], []
+    rows, hist = [], []
     t0 = time.perf_counter()
     runner = ScenarioRun(sc)
     rec = None
     try:
         rec = video(runner) if video is not None else None
         rows.append(runner.record())
-        nodes.append(runner.bt.nodes(runner.sim.data))
+        hist.append(runner.element_record())
         if rec is not None and rec.due(runner.sim.time):
             rec.capture()
         for k in range(1, n_steps + 1):
@@ -402,7 +423,7 @@ def run(sc: dict, progress=None, keep_nodes: bool = True, video=None):
             if k % every == 0:
                 rows.append(runner.record())
                 if keep_nodes:
-                    nodes.append(runner.bt.nodes(runner.sim.data))
+                    hist.append(runner.element_record())
             if rec is not None and rec.due(runner.sim.time):
                 rec.capture()
             if progress and (k % every == 0 or k == n_steps):
@@ -424,4 +445,6 @@ def run(sc: dict, progress=None, keep_nodes: bool = True, video=None):
     if rec is not None:
         info["video"] = {"file": str(rec.path), "frames": rec.frames, "fps": rec.s.fps, "camera": rec.s.camera,
                          "tension_scale_N": rec.scale}
-    return rows, np.array(nodes), info
+    history = {"nodes": np.array([h[0] for h in hist]), "tension": np.array([h[1] for h in hist]),
+               "element_length": np.array([h[2] for h in hist])}
+    return rows, history, info

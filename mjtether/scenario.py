@@ -102,7 +102,8 @@ SCHEMA: dict[str, dict[str, Key]] = {
         "mode": Key("str", "fixed", doc="fixed, constant, follow, tension, external or free",
                     choices=("fixed", "constant", "follow", "tension", "external", "free")),
         "min_length": Key("float", 0.0, 0.0, 1e5, "m", "shortest deployed length"),
-        "max_length": Key("float", 1e5, 0.1, 1e5, "m", "longest deployed length"),
+        "max_length": Key("float", 0.0, 0.0, 1e5, "m", "longest deployed length: cable up to it waits on the drum (0: "
+                          "the initial length for a fixed winch, twice it otherwise)"),
         "rate": Key("float", 0.0, -10.0, 10.0, "m/s", "constant: payout rate (negative reels in)"),
         "max_rate": Key("float", 2.0, 1e-3, 10.0, "m/s", "fastest payout or reel-in"),
         "max_accel": Key("float", 0.2, 1e-3, 10.0, "m/s^2", "fastest change of the payout rate"),
@@ -272,8 +273,8 @@ def _cross_checks(name: str, sc: dict) -> None:
                 bad(f"{sec}: every column must have as many rows as depths ({len(d)})")
     w = sc["winch"]
     L = sc["tether"]["length"]
-    if w["max_length"] == SCHEMA["winch"]["max_length"].default:
-        w["max_length"] = max(w["max_length"], L)
+    if w["max_length"] == 0.0:
+        w["max_length"] = L if w["mode"] == "fixed" else 2.0 * L
     if not w["min_length"] <= L <= w["max_length"]:
         bad(f"tether.length = {L} m must be in [winch.min_length, winch.max_length] = "
             f"[{w['min_length']}, {w['max_length']}] m")

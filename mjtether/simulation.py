@@ -21,10 +21,21 @@ from .water import WaterColumn
 
 
 _EQUALITY = int(mujoco.mjtConstraint.mjCNSTR_EQUALITY)  # an int: comparing arrays with the enum is slow
-MASS_REFRESH = 1e-4
-"""Relative change of the deployed length after which ``set_length`` refreshes node masses."""
 _BADQPOS, _BADQVEL, _BADQACC = (int(w) for w in (mujoco.mjtWarning.mjWARN_BADQPOS, mujoco.mjtWarning.mjWARN_BADQVEL,
                                                   mujoco.mjtWarning.mjWARN_BADQACC))
+MAX_NODE_SPEED = 1000.0
+"""Tether node speed (m/s) taken as divergence: no cable in water moves at 1 km/s."""
+MAX_STRAIN = 1.0
+"""Element strain taken as divergence: a cable stretched to twice its length has failed."""
+FAIRLEAD_SHARE = 0.05
+"""Part of the drum element, in units of l0, lumped on the fairlead node (see ``_update``)."""
+SPLIT, MERGE = 1.2, 0.1
+"""The drum element (next to the fairlead) releases a node from the drum when its rest length
+passes SPLIT x the nominal element length l0, and takes one back below MERGE x l0. The node that
+moves is then only (SPLIT - 1) or MERGE x l0 from the fairlead: the chord it is placed on is
+that short, so it starts close to where the sagging cable would have it (a node placed at a
+third of a 1.5 l0 drum element rang the ship tension by +-5 %), and the band between them keeps
+a winch that dithers from releasing and taking back the same node."""
 
 
 class SimulationDiverged(RuntimeError):
@@ -32,89 +43,308 @@ class SimulationDiverged(RuntimeError):
 
 
 class BoundTether:
-    """A ``TetherModel`` bound to a compiled model: indices, force provider, readouts.
+    """A ``TetherModel`` bound to a compiled model: indices, force provider, payout, readouts.
 
-    Readouts refer to the state of the last ``mj_forward``/``mj_step`` force computation.
-    Forces are those the tether exerts on its ends (N, world frame).
+    Nodes and elements are numbered as in ``builder``: from the drum's core (0) to the robot end
+    (``n``); only nodes ``first`` .. n are deployed, ``first`` at the fairlead. Readouts named
+    after the deployed cable (``nodes``, ``tension``) return the deployed part only, its first
+    row at the ship; ``element_*`` readouts return all ``n`` elements, 0 for those on the drum.
+    Readouts refer to the state of the last ``mj_forward``/``mj_step``. Forces are those the
+    tether exerts on its ends (N, world frame).
     """
 
     def __init__(self, tm: TetherModel, model: mujoco.MjModel, data: mujoco.MjData, water: WaterColumn):
         self.tm = tm
         self.spec = s = tm.spec
         self.water = water
-        self.N = N = s.segments
+        self.model, self.data = model, data
+        self.n = n = tm.n
+        self.l0 = tm.nominal_length
+        self.max_length = tm.max_length
         fid = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_FLEX, tm.name)
-        self.vertadr = model.flex_vertadr[fid]
-        edgeadr = model.flex_edgeadr[fid]
-        # rest length of every element is the material length l, whatever the initial shape
-        model.flexedge_length0[edgeadr:edgeadr + N] = s.segment_length
+        self.vertadr = int(model.flex_vertadr[fid])
+        self.tadr = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_TENDON, tm.element_tendon(0))
+        self._ten = slice(self.tadr, self.tadr + n)
         self._row_cache: dict[int, slice] = {}
-        self.eq_id = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_EQUALITY, tm.edge_equality)
-        self.connect_ids = {k: mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_EQUALITY, v)
-                            for k, v in tm.connects.items()}
-        bids = [mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, b) for b in tm.node_bodies]
-        self.dofs = np.concatenate([model.body_dofadr[b] + np.arange(3) for b in bids])
-        # node dofs are contiguous (one body after another): a slice is faster to write through
-        if np.all(np.diff(self.dofs) == 1):
-            self.dofs = slice(int(self.dofs[0]), int(self.dofs[-1]) + 1)
-        self.qpos_adr = np.concatenate([model.jnt_qposadr[model.body_jntadr[b]] + np.arange(3) for b in bids])
-        m_eff = s.mu * s.segment_length + tm.added_mass[N // 2]  # interior node, mass + armature
-        # retune the edge constraint with the diagA MuJoCo actually uses for interior edges
-        mujoco.mj_forward(model, data)
-        diag = np.median(data.efc_diagA[self._rows(data, self.eq_id)])
-        tm.axial = axial_params(s.EA, s.segment_length, m_eff, model.opt.timestep,
-                                s.axial_damping_ratio, diag_a=float(diag))
-        model.eq_solref[self.eq_id] = tm.axial.solref
-        model.eq_solimp[self.eq_id] = tm.axial.solimp
-        # what set_length scales with the element length
-        self._edges = slice(edgeadr, edgeadr + N)
-        self._bids = np.array(bids)
-        self._l0 = s.segment_length
-        self._mass0 = model.body_mass[self._bids].copy()
-        self._inertia0 = model.body_inertia[self._bids].copy()
-        self._armature0 = model.dof_armature[self.dofs].copy()
-        self._m_eff0 = m_eff
-        self._diag0 = float(diag)
-        self.segment_length = self._l_mass = s.segment_length
+        self.eq0 = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_EQUALITY, tm.element_tendon(0))
+        self._eqs = slice(self.eq0, self.eq0 + n)
+        start = tm.connects.get("start")
+        self.drum_eq = None if start is None else np.array(
+            [mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_EQUALITY, c) for c in start])
+        self.end_eq = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_EQUALITY, tm.connects["end"]) \
+            if "end" in tm.connects else None
+        self._bids = np.array([mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, b) for b in tm.node_bodies])
+        dofs = np.concatenate([model.body_dofadr[b] + np.arange(3) for b in self._bids])
+        if not np.all(np.diff(dofs) == 1):
+            raise RuntimeError("tether node dofs must be contiguous")
+        self._dof0 = int(dofs[0])
+        qadr = np.concatenate([model.jnt_qposadr[model.body_jntadr[b]] + np.arange(3) for b in self._bids])
+        if not np.all(np.diff(qadr) == 1):
+            raise RuntimeError("tether node qpos must be contiguous")
+        self._q0 = int(qadr[0])
+        self._body0 = tm.initial_nodes.ravel().copy()  # node body positions at qpos = 0
         make_not_simple(model, self._bids)  # masses and armature change with the deployed length
+        self.first = tm.first
+        self.drum_rest = self.l0
+        self.payout_rate = 0.0  # m/s, of the last set_length
+        self._mu = s.mu
+        self._ca_A = s.ca_normal * s.area
+        self._relayout()
+
+    # ----------------------------------------------------------------- layout of the cable
+
+    def _x(self, i0: int = 0, i1: int | None = None) -> np.ndarray:
+        """Positions (m) of nodes i0..i1-1 from qpos (valid before mj_forward)."""
+        i1 = self.n + 1 if i1 is None else i1
+        return (self.data.qpos[self._q0 + 3 * i0:self._q0 + 3 * i1] + self._body0[3 * i0:3 * i1]).reshape(-1, 3)
+
+    def _v(self, i0: int = 0, i1: int | None = None) -> np.ndarray:
+        i1 = self.n + 1 if i1 is None else i1
+        return self.data.qvel[self._dof0 + 3 * i0:self._dof0 + 3 * i1].reshape(-1, 3)
+
+    def _place(self, i: int, x, v) -> None:
+        self.data.qpos[self._q0 + 3 * i:self._q0 + 3 * i + 3] = np.asarray(x) - self._body0[3 * i:3 * i + 3]
+        self.data.qvel[self._dof0 + 3 * i:self._dof0 + 3 * i + 3] = v
+
+    @property
+    def fairlead_share(self) -> float:
+        """Length (m) of the drum element whose mass and loads the fairlead node carries:
+        FAIRLEAD_SHARE l0, or half the drum element if it is shorter than twice that."""
+        if self.drum_eq is None:
+            return 0.5 * self.drum_rest  # a free start end: an ordinary element
+        return min(FAIRLEAD_SHARE * self.l0, 0.5 * self.drum_rest)
+
+    @property
+    def rest_lengths(self) -> np.ndarray:
+        """Unstretched length of every element (m), shape (n,); 0 for elements on the drum."""
+        r = np.zeros(self.n)
+        r[self.first] = self.drum_rest
+        r[self.first + 1:] = self.l0
+        return r
+
+    def _relayout(self) -> None:
+        """Masses, armature, element limits and tuning, equalities and gravity compensation for
+        the current ``first`` and ``drum_rest`` (every node and element)."""
+        m, d, k, n = self.model, self.data, self.first, self.n
+        m.body_gravcomp[self._bids] = (np.arange(n + 1) < k).astype(float)
+        d.eq_active[self._eqs] = np.arange(n) >= k
+        if self.drum_eq is not None:
+            d.eq_active[self.drum_eq] = 0
+            d.eq_active[self.drum_eq[k]] = 1
+        z = self._x()[:, 2]
+        zc = np.minimum(0.5 * (z[1:] + z[:-1]), 0.0)
+        self._added_per_m = self._ca_A * np.asarray(self.water.rho(zc), float)  # kg/m, per element
+        self._update(0, n)
+
+    def _update(self, j0: int, j1: int) -> None:
+        """Refresh elements j0..j1-1 and their nodes j0..j1 after a change of rest lengths."""
+        m, k, n, l0 = self.model, self.first, self.n, self.l0
+        rest = self.rest_lengths
+        i0, i1 = max(j0, 0), min(j1, n) + 1  # nodes
+        lo, hi = max(i0 - 1, 0), min(i1, n)  # elements touching those nodes
+        r_left = np.where(np.arange(i0, i1) > 0, rest[np.maximum(np.arange(i0, i1) - 1, 0)], 0.0)
+        r_right = np.where(np.arange(i0, i1) < n, rest[np.minimum(np.arange(i0, i1), n - 1)], 0.0)
+        ap = self._added_per_m
+        a_left = np.where(np.arange(i0, i1) > 0, ap[np.maximum(np.arange(i0, i1) - 1, 0)], 0.0)
+        a_right = np.where(np.arange(i0, i1) < n, ap[np.minimum(np.arange(i0, i1), n - 1)], 0.0)
+        # the drum element's part at the fairlead is a constant FAIRLEAD_SHARE l0 (at most half of
+        # it): everything paid out adds to the first free node, so the free cable's mass grows
+        # continuously and nothing jumps when a node is released or taken back
+        idx = np.arange(i0, i1)
+        c = self.fairlead_share
+        left = np.where(idx == k + 1, 1.0 - c / np.maximum(rest[k], 1e-300), 0.5)
+        right = np.where(idx == k, c / np.maximum(rest[k], 1e-300), 0.5)
+        mass = self._mu * (left * r_left + right * r_right)
+        added = left * a_left * r_left + right * a_right * r_right
+        i_ref = (self._mu + np.median(ap)) * l0  # an interior node's inertia
+        parked = idx < k
+        end = (idx == k) | (idx == n)  # at a support: armature up to an interior node's inertia
+        mass = np.where(parked, self._mu * l0, mass)
+        arm = np.where(parked, i_ref - self._mu * l0, added)
+        arm = np.where(end & ~parked, np.maximum(i_ref - mass, added), arm)
+        arm = np.maximum(arm, 1e-9 * i_ref)
+        m.body_mass[self._bids[i0:i1]] = mass
+        m.dof_armature[self._dof0 + 3 * i0:self._dof0 + 3 * i1] = np.repeat(arm, 3)
+        self._inertia = getattr(self, "_inertia", np.zeros(n + 1))
+        self._inertia[i0:i1] = mass + arm
+        # elements lo..hi-1: inverse mass along the element, solver parameters, rest lengths
+        js = np.arange(lo, hi)
+        inv = 1.0 / self._inertia[js] + 1.0 / self._inertia[js + 1]
+        p = axial_params(self.spec.EA, np.where(js >= k, rest[js], l0), inv, m.opt.timestep,
+                         self.spec.axial_damping_ratio)
+        m.tendon_invweight0[self.tadr + js] = inv
+        m.eq_solref[self.eq0 + js] = p.solref
+        m.eq_solimp[self.eq0 + js] = p.solimp
+        self._lead = np.zeros(n) if lo == 0 and hi == n else self._lead
+        self._lead[lo:hi] = p.B / p.S  # s: see _set_rest
+        self._rest = rest
+        self._deployed_rest = rest[k:]
+        self._set_rest(lo, hi)
+        if (lo, hi) == (0, n):
+            self.axial = p
+
+    def _set_rest(self, lo: int, hi: int) -> None:
+        """The equality of element j holds its length at rest_j + lead_j * (payout rate if j is
+        the drum element): MuJoCo damps the rate of the element's length, and the lead turns
+        that into its strain rate for the drum element, whose rest length grows at the payout
+        rate (B l' + S (l - rest - (B / S) rest') = B (l' - rest') + S (l - rest))."""
+        js = np.arange(lo, hi)
+        target = self._rest[js] + np.where(js == self.first, self._lead[js] * self.payout_rate, 0.0)
+        self.model.eq_data[self.eq0 + js, 0] = target - self.model.tendon_length0[self.tadr + js]
+
+    def update_slack(self) -> None:
+        """Switch elements between taut and slack after a step: an element shorter than its rest
+        length whose equality pushes (compression) goes slack; a slack one longer than its rest
+        length is taut again.
+        (MuJoCo's one-sided limit constraints chatter at the stiffness a long time step allows,
+        so tension only is made this way, from two-sided equalities.)"""
+        d, k, n = self.data, self.first, self.n
+        act = d.eq_active[self._eqs]
+        if d.nefc:
+            rows = self._element_rows(d)
+            f = d.efc_force[rows]
+            push = d.efc_id[rows][f > 0.0] - self.eq0  # efc_force > 0 pushes the nodes apart
+            act[push[d.ten_length[self.tadr + push] < self._rest[push]]] = 0
+        slack = np.nonzero(act[k:] == 0)[0] + k
+        if len(slack):
+            taut = slack[d.ten_length[self.tadr + slack] > self._rest[slack]]
+            act[taut] = 1
+        d.eq_active[self._eqs] = act
+
+    def _element_rows(self, data) -> np.ndarray:
+        """Constraint rows of the active element equalities (one each)."""
+        ne = data.nefc
+        ids = data.efc_id[:ne]
+        return np.nonzero((data.efc_type[:ne] == _EQUALITY) & (ids >= self.eq0) & (ids < self.eq0 + self.n))[0]
+
+    def payout_state(self) -> tuple[int, float]:
+        """(first deployed node, drum element rest length in m): with MuJoCo's state (qpos,
+        qvel, eq_active) this is everything needed to restore the payout exactly."""
+        return self.first, self.drum_rest
+
+    def restore_payout(self, state) -> None:
+        """Restore a ``payout_state()`` (set MuJoCo's own state first, then call this)."""
+        first, drum = state
+        self.first, self.drum_rest = int(first), float(drum)
+        self._relayout()
+
+    def set_length(self, length: float, rate: float | None = None) -> None:
+        """Change the deployed (unstretched) length to ``length`` (m) at the drum, as a winch does.
+
+        The drum element (next to the fairlead) takes the change; past SPLIT x l0 it releases the
+        next node from the drum (placed on the drum element's chord so that the split pieces keep
+        their stretch, with the interpolated velocity); below MERGE x l0 its neighbour's node is
+        taken back (moved to the fairlead, the drum element taking both pieces). Every other
+        deployed element keeps the nominal length l0, and the mass of the deployed cable is
+        mass per length x ``length``. Only the drum nodes' masses and the drum elements' solver
+        parameters change at an ordinary step. ``rate`` is the payout rate (m/s; by default the
+        change over one time step): the drum element's damping acts on its strain rate, its
+        length's rate less this.
+        """
+        L = float(length)
+        if not (np.isfinite(L) and L >= 0):
+            raise ValueError(f"length must be a finite number >= 0 m, got {length!r}")
+        n, l0 = self.n, self.l0
+        k = self.first
+        s = L - (n - k - 1) * l0
+        if s == self.drum_rest:
+            if self.payout_rate:
+                self.payout_rate = 0.0
+                self._set_rest(k, k + 1)
+            return  # (a fixed winch calls this every step)
+        self.payout_rate = (L - self.deployed_length) / self.model.opt.timestep if rate is None else float(rate)
+        if self.drum_eq is None:
+            raise ValueError("set_length: this tether has a free start end and no drum")
+        if L > self.max_length * (1 + 1e-9) + 1e-9:
+            raise ValueError(f"length {L:g} m exceeds the tether's max_length {self.max_length:g} m "
+                             "(give add_tether(max_length=...) the winch's max_length)")
+        changed = False
+        while s > SPLIT * l0 and k > 0:  # release node k-1 from the drum
+            xf, vf = self._x(k, k + 1)[0], self._v(k, k + 1)[0].copy()
+            xn, vn = self._x(k + 1, k + 2)[0], self._v(k + 1, k + 2)[0].copy()
+            f = (s - l0) / s
+            # the released node moves with the cable in the water (paid out at the drum's speed)
+            self._place(k, xf + f * (xn - xf), vn)
+            self._place(k - 1, xf, vf)
+            k -= 1
+            s -= l0
+            changed = True
+        while s < MERGE * l0 and k < n - 1:  # take node k+1 back onto the drum
+            xf, vf = self._x(k, k + 1)[0], self._v(k, k + 1)[0].copy()
+            self._place(k + 1, xf, vf)
+            self._place(k, xf, np.zeros(3))
+            k += 1
+            s += l0
+            changed = True
+        self.first, self.drum_rest = k, max(s, 0.0)
+        if changed:
+            self._relayout()
+        else:
+            self._update(k, k + 2)
 
     # ----------------------------------------------------------------- forces
 
     def loads(self, data: mujoco.MjData) -> np.ndarray:
-        """Hydrodynamic (+ bending) loads on every node (N, shape (N+1, 3))."""
-        s = self.spec
-        x = data.flexvert_xpos[self.vertadr:self.vertadr + self.N + 1]
-        v = data.qvel[self.dofs].reshape(-1, 3)
-        f = tether_loads(x, v, segment_length=self.segment_length, diameter=s.diameter,
+        """Hydrodynamic (+ bending) loads on the deployed nodes (N, shape (n-first+1, 3))."""
+        s, k = self.spec, self.first
+        x = data.flexvert_xpos[self.vertadr + k:self.vertadr + self.n + 1]
+        v = data.qvel[self._dof0 + 3 * k:self._dof0 + 3 * (self.n + 1)].reshape(-1, 3)
+        f = tether_loads(x, v, segment_length=self._deployed_rest, diameter=s.diameter,
                          cd_normal=s.cd_normal, cd_tangential=s.cd_tangential,
                          rho_fn=self.water.rho, current_fn=self.water.velocity,
-                         gravity=self.water.gravity)
+                         gravity=self.water.gravity,
+                         first_share=self.fairlead_share / max(self.drum_rest, 1e-300))
         if s.EI > 0:
-            f += bending_forces(x, s.EI, self.segment_length)
+            f += bending_forces(x, s.EI, self.l0)
         return f
 
     def apply(self, model: mujoco.MjModel, data: mujoco.MjData) -> None:
-        data.qfrc_passive[self.dofs] += self.loads(data).ravel()
+        f = self.loads(data)
+        data.qfrc_passive[self._dof0 + 3 * self.first:self._dof0 + 3 * (self.n + 1)] += f.ravel()
 
     def set_state(self, data: mujoco.MjData, nodes=None, velocity=None) -> None:
-        """Set node positions (m) and/or velocities (m/s), world frame, shape (N+1, 3), e.g.
-        from a ``quasistatic.steady_state``; call ``Simulation.forward()`` afterwards."""
+        """Set the deployed nodes' positions (m) and/or velocities (m/s), world frame, shape
+        (deployed elements + 1, 3), e.g. from a ``quasistatic.steady_state``; call
+        ``Simulation.forward()`` afterwards."""
+        k, n = self.first, self.n
         for label, arr in (("nodes", nodes), ("velocity", velocity)):
             if arr is None:
                 continue
             a = np.asarray(arr, dtype=float)
-            if a.shape != (self.N + 1, 3) or not np.all(np.isfinite(a)):
-                raise ValueError(f"{label} must be a finite array of shape ({self.N + 1}, 3)")
+            if a.shape != (n - k + 1, 3) or not np.all(np.isfinite(a)):
+                raise ValueError(f"{label} must be a finite array of shape ({n - k + 1}, 3)")
             if label == "nodes":
-                data.qpos[self.qpos_adr] = (a - self.tm.initial_nodes).ravel()
+                data.qpos[self._q0 + 3 * k:self._q0 + 3 * (n + 1)] = a.ravel() - self._body0[3 * k:]
             else:
-                data.qvel[self.dofs] = a.ravel()
+                data.qvel[self._dof0 + 3 * k:self._dof0 + 3 * (n + 1)] = a.ravel()
 
     # ----------------------------------------------------------------- readouts
 
+    @property
+    def N(self) -> int:
+        """Number of deployed elements (the drum element included)."""
+        return self.n - self.first
+
+    @property
+    def segment_length(self) -> float:
+        """Nominal element length l0 = initial length / segments (m)."""
+        return self.l0
+
+    @property
+    def deployed_length(self) -> float:
+        """Unstretched deployed length (m)."""
+        return self.drum_rest + (self.n - self.first - 1) * self.l0
+
     def nodes(self, data: mujoco.MjData) -> np.ndarray:
-        """Node positions (m, world frame), shape (N+1, 3), node 0 at the ship."""
-        return data.flexvert_xpos[self.vertadr:self.vertadr + self.N + 1].copy()
+        """Deployed node positions (m, world frame), shape (N+1, 3), the first at the ship."""
+        return data.flexvert_xpos[self.vertadr + self.first:self.vertadr + self.n + 1].copy()
+
+    def all_nodes(self, data: mujoco.MjData) -> np.ndarray:
+        """Every node (m, world), shape (n+1, 3), numbered from the drum's core; nodes on the
+        drum are given at the fairlead."""
+        x = data.flexvert_xpos[self.vertadr:self.vertadr + self.n + 1].copy()
+        x[:self.first] = x[self.first]
+        return x
 
     def _rows(self, data: mujoco.MjData, eq_id: int) -> slice:
         """The constraint rows of equality ``eq_id``: a contiguous block that MuJoCo places
@@ -130,66 +360,42 @@ class BoundTether:
             self._row_cache[eq_id] = r
         return r
 
+    def element_tension(self, data: mujoco.MjData) -> np.ndarray:
+        """Axial tension of every element (N), shape (n,): never negative (elements carry
+        tension only); 0 for slack elements and those on the drum."""
+        rows = self._element_rows(data)
+        out = np.zeros(self.n)
+        out[data.efc_id[rows] - self.eq0] = np.maximum(-data.efc_force[rows], 0.0)
+        out[:self.first] = 0.0
+        return out
+
     def tension(self, data: mujoco.MjData) -> np.ndarray:
-        """Axial tension of each element (N), shape (N,); negative means compression."""
-        rows = self._rows(data, self.eq_id)
-        if rows.stop - rows.start != self.N:
-            raise RuntimeError("tether tension is available after mj_forward/mj_step")
-        return -data.efc_force[rows]
+        """Axial tension of the deployed elements (N), shape (N,), the first at the ship."""
+        return self.element_tension(data)[self.first:]
+
+    def element_length(self, data: mujoco.MjData) -> np.ndarray:
+        """Stretched length of every element (m), shape (n,); 0 for elements on the drum."""
+        out = data.ten_length[self._ten].copy()
+        out[:self.first] = 0.0
+        return out
+
+    def slack_count(self, data: mujoco.MjData) -> int:
+        """Deployed elements carrying no tension."""
+        return int(np.count_nonzero(self.tension(data) <= 0.0))
 
     def stretched_length(self, data: mujoco.MjData) -> float:
-        """Sum of element lengths (m)."""
+        """Sum of the deployed elements' lengths (m)."""
         return float(element_geometry(self.nodes(data))[1].sum())
-
-    @property
-    def deployed_length(self) -> float:
-        """Unstretched deployed length (m)."""
-        return self.segment_length * self.N
-
-    def set_length(self, model: mujoco.MjModel, length: float) -> None:
-        """Change the deployed (unstretched) length to ``length`` (m), as a winch does.
-
-        Every element takes the length L / N (the variable-segment-length approach of Khan et
-        al. 2023, Table 6): rest lengths, node masses, added mass and the axial constraint all
-        scale with it, so the cable's mass follows its length and its stiffness stays EA. A
-        change of a small fraction of an element per step adds no tension of its own. Rest
-        lengths follow every call; masses and the constraint's tuning are refreshed once the
-        length has moved by MASS_REFRESH of itself since their last refresh (their error is
-        then below that fraction, and a winch paying out every step costs little).
-        """
-        L = float(length)
-        if not (np.isfinite(L) and L > 0):
-            raise ValueError(f"length must be a finite number > 0 m, got {length!r}")
-        l = L / self.N
-        if l == self.segment_length:
-            return  # (a fixed winch calls this every step)
-        model.flexedge_length0[self._edges] = l
-        self.segment_length = l
-        if abs(l - self._l_mass) > MASS_REFRESH * self._l_mass:
-            self._refresh_mass(model)
-
-    def _refresh_mass(self, model: mujoco.MjModel) -> None:
-        l = self.segment_length
-        r = l / self._l0
-        s = self.spec
-        model.body_mass[self._bids] = self._mass0 * r
-        model.body_inertia[self._bids] = self._inertia0 * r
-        model.dof_armature[self.dofs] = self._armature0 * r
-        self.tm.axial = axial_params(s.EA, l, self._m_eff0 * r, model.opt.timestep, s.axial_damping_ratio,
-                                     diag_a=self._diag0 / r)
-        model.eq_solref[self.eq_id] = self.tm.axial.solref
-        model.eq_solimp[self.eq_id] = self.tm.axial.solimp
-        self._l_mass = l
 
     def end_force(self, data: mujoco.MjData, which: str = "start") -> np.ndarray:
         """Force of the tether on its ``"start"`` (ship) or ``"end"`` (robot) support (N, world):
         the force of the ``connect`` constraint that holds the end node to the support."""
         if which not in ("start", "end"):
             raise ValueError(f"which must be 'start' or 'end', got {which!r}")
-        if which not in self.connect_ids:  # a free end
+        eq = self.end_eq if which == "end" else (None if self.drum_eq is None else self.drum_eq[self.first])
+        if eq is None:  # a free end
             return np.zeros(3)
-        return data.efc_force[self._rows(data, self.connect_ids[which])].copy()
-
+        return data.efc_force[self._rows(data, int(eq))].copy()
 
     def end_tension(self, data: mujoco.MjData, which: str = "start") -> float:
         """Magnitude of ``end_force`` (N)."""
@@ -247,12 +453,52 @@ class Simulation:
         dispatch.raise_pending(self.data)
 
     def step(self, nstep: int = 1) -> None:
-        """Advance ``nstep`` steps; raise ``SimulationDiverged`` if the state blows up."""
+        """Advance ``nstep`` steps; raise ``SimulationDiverged`` if the state blows up, naming
+        the time and what went first (see ``check``)."""
         if self._closed:
             raise RuntimeError("simulation is closed")
-        mujoco.mj_step(self.model, self.data, nstep)
+        saved = self.save_state() if nstep > 1 else None
+        self._advance(nstep)
         dispatch.raise_pending(self.data)
-        self.check()
+        try:
+            self.check()
+        except SimulationDiverged:
+            if saved is None:
+                raise
+            # find the step where it went, one step at a time from the saved state
+            self.restore_state(saved)
+            for _ in range(nstep):
+                self._advance(1)
+                dispatch.raise_pending(self.data)
+                self.check()
+            raise
+
+    def _advance(self, nstep: int) -> None:
+        """``nstep`` MuJoCo steps, switching slack tether elements after each."""
+        if not self.tethers:
+            mujoco.mj_step(self.model, self.data, nstep)
+            return
+        tethers = list(self.tethers.values())
+        for _ in range(nstep):
+            mujoco.mj_step(self.model, self.data)
+            for t in tethers:
+                t.update_slack()
+
+    def save_state(self):
+        """Everything needed to continue exactly from here (MuJoCo's integration state and the
+        payout state of every tether); see ``restore_state``."""
+        spec = mujoco.mjtState.mjSTATE_INTEGRATION
+        buf = np.empty(mujoco.mj_stateSize(self.model, spec))
+        mujoco.mj_getState(self.model, self.data, buf, spec)
+        return buf, {k: t.payout_state() for k, t in self.tethers.items()}, self._bad_acc0
+
+    def restore_state(self, state) -> None:
+        """Return to a ``save_state()``; readouts are valid after ``forward()`` or a step."""
+        buf, payout, bad = state
+        mujoco.mj_setState(self.model, self.data, buf, mujoco.mjtState.mjSTATE_INTEGRATION)
+        for k, t in self.tethers.items():
+            t.restore_payout(payout[k])
+        self._bad_acc0 = bad
 
     def run(self, duration: float, callback=None, every: float | None = None) -> None:
         """Simulate ``duration`` seconds; call ``callback(sim)`` every ``every`` seconds."""
@@ -268,16 +514,51 @@ class Simulation:
                 callback(self)
 
     def check(self) -> None:
+        """Raise ``SimulationDiverged`` if the state has gone bad: MuJoCo's own check (a
+        position, velocity or acceleration non-finite or above 1e10, after which it resets the
+        state), a tether node faster than ``MAX_NODE_SPEED`` or an element stretched by more
+        than ``MAX_STRAIN``. The message names the time, the tether element or MuJoCo degree of
+        freedom, and the quantity."""
         d = self.data
-        # MuJoCo checks qpos, qvel and qacc for NaN or > 1e10 at every step; it warns and (by
-        # default) resets the state, which would otherwise hide the blow-up
         w = d.warning
         bad = w[_BADQPOS].number + w[_BADQVEL].number + w[_BADQACC].number
         if bad > self._bad_acc0 or not math.isfinite(d.qvel[0] + d.qpos[0]):
             self._bad_acc0 = bad
-            raise SimulationDiverged(
-                f"simulation diverged at t = {d.time:.3f} s (time step {self.timestep:g} s); "
-                "reduce the time step (see mjtether.stability.max_timestep)")
+            what = []
+            for code, q in ((_BADQPOS, "position"), (_BADQVEL, "velocity"), (_BADQACC, "acceleration")):
+                if w[code].number:
+                    what.append(f"{q} of {self._dof_name(int(w[code].lastinfo))}")
+            self._diverged(d.time - self.timestep, "MuJoCo found a non-finite or huge " + " and ".join(what))
+        for name, t in self.tethers.items():
+            k = t.first
+            v = d.qvel[t._dof0 + 3 * k:t._dof0 + 3 * (t.n + 1)]
+            vmax = float(np.abs(v).max())
+            if vmax > MAX_NODE_SPEED:
+                i = int(np.argmax(np.abs(v))) // 3
+                self._diverged(d.time, f"{name} node {i} (of {t.N + 1} deployed, 0 at the ship) moves at "
+                                       f"{vmax:.3g} m/s")
+            if t.spec.EA is not None:
+                strain = d.ten_length[t.tadr + k:t.tadr + t.n] / np.maximum(t._deployed_rest, 1e-9) - 1.0
+                j = int(np.argmax(strain))
+                if strain[j] > MAX_STRAIN:
+                    self._diverged(d.time, f"{name} element {j} (0 at the ship) is stretched by "
+                                           f"{100 * strain[j]:.0f} % (EA {t.spec.EA:g} N)")
+
+    def _dof_name(self, dof: int) -> str:
+        m = self.model
+        if not 0 <= dof < m.nv:
+            return "the state"
+        body = int(m.dof_bodyid[dof])
+        for name, t in self.tethers.items():
+            hits = np.nonzero(t._bids == body)[0]
+            if len(hits):
+                return f"{name} node {int(hits[0]) - t.first} (0 at the ship)"
+        return f"body {mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_BODY, body) or body}"
+
+    def _diverged(self, t: float, what: str) -> None:
+        raise SimulationDiverged(
+            f"simulation diverged at t = {t:.4f} s (time step {self.timestep:g} s): {what}; "
+            "reduce the time step (see mjtether.stability.max_timestep)")
 
     def close(self) -> None:
         """Remove this simulation's force providers from the passive callback."""

@@ -62,7 +62,7 @@ class Winch:
     def __post_init__(self):
         if self.mode not in MODES:
             raise ValueError(f"winch.mode must be one of {', '.join(MODES)}; got {self.mode!r}")
-        _checks.positive("winch.length", self.length, "m")
+        _checks.non_negative("winch.length", self.length, "m")
         _checks.non_negative("winch.min_length", self.min_length, "m")
         if not self.max_length > self.min_length:
             raise ValueError(f"winch.max_length must be > winch.min_length ({self.min_length} m), "

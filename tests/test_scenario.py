@@ -92,7 +92,8 @@ def test_static_scenario_stays_at_the_quasi_static_answer():
     2 % of an independent steady_state solve, nodes within 1 % of the length (the tolerances of
     the dynamic cross-checks in test_quasistatic)."""
     sc = load_scenario(text=small(30.0))
-    rows, nodes, info = run(sc)
+    rows, history, info = run(sc)
+    nodes = history["nodes"]
     assert info["initial_state"] == "quasi-static steady state"
     water, tether = water_from(sc), tether_from(sc)
     ss = steady_state(tether, water, [0, 0, 0], [60.0, 0.0, -80.0])

@@ -6,7 +6,6 @@ from conftest import new_spec
 
 import mjtether as mt
 from mjtether.quasistatic import steady_state
-from mjtether.simulation import MASS_REFRESH
 
 
 def run_winch(w, seconds, dt=0.01, tension=0.0, speed=0.0):
@@ -59,11 +58,16 @@ def test_winch_bad_input():
 
 
 def test_payout_has_no_tension_spikes_and_ends_at_the_steady_state():
-    """Paying out 30 m at 1 m/s between fixed ends in a current: the ship-end tension, sampled
-    every 0.05 s, never changes by more than 5 % from one sample to the next (2.96 % seen, at
-    the start of the drum's acceleration; the tension falls by a quarter while the cable sinks
-    through the water, which is drag, not an artefact). After 30 s at the new length it is
-    within 2 % of the steady state of 130 m. The cable's mass follows its length (to 1e-4)."""
+    """Paying out 30 m at 1 m/s (the drum accelerating at 0.2 m/s^2) between fixed ends in a
+    current, the cable leaving the drum at the ship. Sampled every 0.05 s, the ship-end tension
+    never changes by more than 10 % from one sample to the next. Two effects set that bound, both
+    measured: each node released from the drum rings the tension by up to +-4.4 %, and when the
+    drum stops accelerating (t = 5 s) the tension steps up by 35 N (8 %), which is the cable's
+    axial inertia: (mass + added mass) x acceleration = (141 + 72) kg x 0.2 m/s^2 = 43 N. (The
+    tension falls by a third while the cable sinks through the water, which is drag.) After 30 s
+    at the new length it is within 2 % of the steady state of 130 m. Every element in the water
+    but the drum element keeps the nominal 2.5 m, and the deployed cable's mass is mass per length
+    x deployed length (to 1e-12: it is bookkeeping) at every sample."""
     dt = 0.005
     water = mt.WaterColumn(depth=200.0, current=mt.ExponentialCurrent(1.0, decay_depth=20.0))
     bottom = np.array([60.0, 0.0, -70.0])
@@ -71,22 +75,25 @@ def test_payout_has_no_tension_spikes_and_ends_at_the_steady_state():
     start = steady_state(tether, water, [0, 0, 0], bottom)
     spec = new_spec(dt)
     tm = mt.add_tether(spec, tether, mt.FixedPoint([0, 0, 0]), mt.FixedPoint(bottom), water=water,
-                       nodes=start.nodes)
+                       nodes=start.nodes, max_length=130.0)
     winch = mt.Winch(length=100.0, mode="constant", rate=1.0, max_length=130.0)
     samples = []
     with mt.Simulation(spec, water, [tm]) as sim:
         bt = sim.tether()
         samples.append(bt.end_tension(sim.data, "start"))
         for k in range(int(round(60.0 / dt))):
-            bt.set_length(sim.model, winch.advance(dt, sim.time, 0.0))
+            bt.set_length(winch.advance(dt, sim.time, 0.0), rate=winch.current_rate)
             sim.step()
             if (k + 1) % 10 == 0:
                 samples.append(bt.end_tension(sim.data, "start"))
+                mass = sim.model.body_mass[bt._bids[bt.first:]].sum()
+                assert mass == pytest.approx(tether.mu * bt.deployed_length, rel=1e-12)
+                rest = bt.rest_lengths[bt.first:]
+                assert np.all(rest[1:] == 2.5) and 0.1 * 2.5 <= rest[0] <= 1.2 * 2.5
         assert bt.deployed_length == pytest.approx(130.0)
-        # masses are refreshed each time the length has moved by MASS_REFRESH (1e-4) of itself
-        assert sim.model.body_mass[bt._bids].sum() == pytest.approx(tether.mu * 130.0, rel=MASS_REFRESH)
+        assert bt.N == 52  # 40 elements, and 12 of 2.5 m released from the drum
     t = np.array(samples)
-    assert np.abs(np.diff(t) / t[:-1]).max() < 0.05
+    assert np.abs(np.diff(t) / t[:-1]).max() < 0.10
     end = steady_state(mt.TetherSpec(length=130.0, segments=40, diameter=0.03, density=2000.0, EA=5e6),
                        water, [0, 0, 0], bottom)
     assert t[-1] == pytest.approx(end.top_tension, rel=0.02)

@@ -21,7 +21,7 @@ def dynamic_EA(tether: TetherSpec, water: WaterColumn, timestep: float) -> float
     rho = float(water.rho([0.0])[0])
     l = tether.segment_length
     m_eff = tether.mu * l + tether.ca_normal * rho * tether.area * l
-    return axial_params(tether.EA, l, m_eff, timestep, tether.axial_damping_ratio).effective_EA(l)
+    return float(axial_params(tether.EA, l, 2.0 / m_eff, timestep, tether.axial_damping_ratio).effective_EA(l))
 
 
 def initial_state(tether: TetherSpec, water: WaterColumn, top, bottom, *, timestep: float,
