@@ -291,6 +291,7 @@ def add_tether(
     rgba=(0.95, 0.6, 0.1, 1.0),
     seabed_friction: float | None = None,
     max_length: float | None = None,
+    end_at=None,
 ) -> TetherModel:
     """Add ``tether`` to ``spec`` between ``start`` (the ship end, where its drum is) and ``end``.
 
@@ -306,6 +307,9 @@ def add_tether(
         max_length: the longest deployed length (m) a winch may pay out to; cable beyond
             ``tether.length`` waits on the drum at ``start`` (see the module docstring).
             Reel-in needs no allowance.
+        end_at: where the end support will be when the simulation starts (m, world), if not
+            where ``spec`` puts it (e.g. a robot whose joints are set to a standing pose after
+            compiling); the last node is placed there.
     """
     if seabed_friction is not None:
         _checks.non_negative("seabed_friction", seabed_friction)
@@ -324,7 +328,7 @@ def add_tether(
     first = n - N
 
     p0 = anchor_position(spec, start)
-    p1 = anchor_position(spec, end)
+    p1 = anchor_position(spec, end) if end_at is None else _checks.vector3("end_at", end_at)
     if nodes is None and p0 is None:
         raise ValueError("nodes: give the initial node positions when the start end is free")
     if nodes is None:

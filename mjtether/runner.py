@@ -65,13 +65,23 @@ RECORD_FIELDS = [
 
 
 PREROLL_S = 1.0
+"""Seconds simulated before t = 0 with the ship and winch still (see ``ScenarioRun``)."""
+WALK_ACCEL = 0.2
+"""Largest change of the walker's commanded speed (m/s^2)."""
+HEADING_GAIN = 2.0
+"""Heading hold of the walker (1/s): turn rate added per radian of heading error."""
+MAX_TURN = 0.5
+"""Largest turn rate (rad/s) the heading hold asks of the gait."""
+STAND_S = 2.0
+"""Seconds the walker stands alone on the seabed to find its resting pose before the run is built."""
+SETTLE_S = 10.0
+"""Seconds a ``start = "settle"`` run lets the cable fall into place with the robot held."""
 FALLBACK_SUBSTEPS = 4
-"""Pre-roll sub-steps per time step when the run starts from the fallback shape."""
+"""Pre-roll sub-steps per time step when the run starts from a guessed shape."""
 CONTROL_HZ = 100.0
 """Rate (Hz) at which the gait updates the walker's joint targets."""
 WALKER_STAND_HEIGHT = 0.9
 """Height (m) of the walker's torso above the seabed when it is placed."""
-"""Seconds simulated before t = 0 with the ship and winch still (see ``ScenarioRun``)."""
 
 
 def roll_pitch(R: np.ndarray) -> tuple[float, float]:
@@ -186,6 +196,7 @@ class ScenarioRun:
         radius = self.tether_spec.diameter / 2
         r = sc["robot"]
         self.walker = r["type"] == "walker"
+        self.heading = r["heading"] if self.walker else None
         bodies = []
         if self.walker:
             x, y = r["start"]
@@ -201,10 +212,12 @@ class ScenarioRun:
             frame.attach_body(walker_spec().body("torso"), "walker/", "")
             bodies.append(add_body_hydro(spec, "walker/torso", WALKER_HYDRO))
             end = builder.SitePoint("walker/tow_point")
-            robot = builder.anchor_position(spec, end)
             self.commands = np.array(r["commands"], dtype=float)
             self.manual_command = None
             self.gait = Tripod(period=r["gait_period"])
+            # the walker stands on the seabed first, alone; the tether's steady state is solved to
+            # its tow point standing, and the run starts with the walker in that pose
+            self._stand, robot = self._standing_pose(spec, bodies, dt)
         else:
             robot = np.array(r["position"], dtype=float)
             # a tow point on the seabed holds the cable's axis one radius above it
@@ -213,24 +226,54 @@ class ScenarioRun:
         self.robot_position = robot
         top = np.array(spec.body("ship").pos)
         self.initial, self.initial_note = self._initial_state(top, robot, dt)
-        nodes = self._fallback_nodes(top, robot) if self.initial is None else self.initial.nodes
+        start = sc["simulation"]["start"]
+        if start == "settle" or (start == "auto" and self.initial is None):
+            settle, self.initial = True, None
+            self.initial_note = "settled with the robot held" + (
+                "" if start == "settle" else f" (no steady state: {self.initial_note})")
+        elif self.initial is None:
+            raise RunFailed(f"no consistent start: {self.initial_note}; set simulation.start = \"settle\" to let "
+                            "the cable fall into place while the robot is held")
+        else:
+            settle = False
+        nodes = self._fallback_nodes(top, robot) if settle else self.initial.nodes
+        if settle and self.walker:  # held in place while the cable settles
+            hold = spec.add_equality(name="walker/hold", type=mujoco.mjtEq.mjEQ_WELD, objtype=mujoco.mjtObj.mjOBJ_BODY,
+                                     name1="walker/torso")
+            hold.active = True
         self.tm = builder.add_tether(spec, self.tether_spec, builder.SitePoint("ship/fairlead"), end,
                                      water=self.water, nodes=nodes, seabed_friction=sc["tether"]["seabed_friction"],
-                                     max_length=self.winch.max_length)
+                                     max_length=self.winch.max_length, end_at=robot if self.walker else None)
         self.sim = Simulation(spec, self.water, tethers=[self.tm], bodies=bodies)
         self.bt = self.sim.tether()
         m = self.sim.model
         self._since_control = 1.0 / CONTROL_HZ  # the first call sets the targets
+        self.heading_ref = self.heading  # rad, the commanded heading (the turn rate integrated)
+        self._speed = 0.0  # m/s, the speed the gait is given (ramped towards the command)
         if self.walker:
             self.gait.bind(m, prefix="walker/")
             self.torso = m.body("walker/torso").id
             self.tow_site = m.site("walker/tow_point").id
+            d = self.sim.data
+            for (body, k), (q, v) in self._stand.items():
+                j = m.body_jntadr[m.body(body).id] + k
+                d.qpos[m.jnt_qposadr[j]:m.jnt_qposadr[j] + len(q)] = q
+                d.qvel[m.jnt_dofadr[j]:m.jnt_dofadr[j] + len(v)] = v
+            d.ctrl[:] = self._stand_ctrl
+            self.sim.forward()
         # pre-roll: soft contacts carry the laid cable's (and the walker's) weight only once they
         # are pressed in; PREROLL_S of standing still lets them load, then t is reset to 0
-        # (a fallback start is far from equilibrium: it settles with finer steps)
-        sub = 1 if self.initial is not None else FALLBACK_SUBSTEPS
+        # (a settling start is far from equilibrium: it settles for SETTLE_S with finer steps,
+        # the walker held, then PREROLL_S released)
+        sub = 1 if not settle else FALLBACK_SUBSTEPS
         m.opt.timestep = dt / sub
         try:
+            if settle:
+                for _ in range(max(1, int(round(SETTLE_S / dt))) * sub):
+                    self._drive(dt / sub, 0.0, 0.0)
+                    self.sim.step()
+                if self.walker:
+                    self.sim.data.eq_active[m.equality("walker/hold").id] = 0
             for _ in range(max(1, int(round(PREROLL_S / dt))) * sub):
                 self._drive(dt / sub, 0.0, 0.0)
                 self.sim.step()
@@ -241,6 +284,53 @@ class ScenarioRun:
         self.ship_mocap = m.body("ship").mocapid[0]
         self.rated_load = sc["tether"]["rated_load"]
 
+    def _standing_pose(self, spec, bodies, dt):
+        """Let the walker stand (stepping in place) on the seabed for STAND_S without the tether,
+        with its hydrodynamics, then put it back at its commanded position and heading; returns
+        ({joint: (qpos, qvel)}, tow point (m, world)) of that pose."""
+        with Simulation(spec.copy(), self.water, bodies=bodies) as sim:
+            m, d = sim.model, sim.data
+            gait = Tripod(period=self.gait.period).bind(m, prefix="walker/")
+            every = max(1, int(round(1.0 / (CONTROL_HZ * dt))))
+            for _ in range(max(1, int(round(STAND_S / (every * dt))))):
+                d.ctrl[gait.actuators] = gait.targets(every * dt, 0.0, 0.0)
+                sim.step(every)
+            # it may have turned or slid a little while its feet found the seabed: put it back at
+            # the commanded position and heading, turning it about the seabed's normal
+            torso = m.body("walker/torso")
+            adr = m.jnt_qposadr[torso.jntadr[0]]
+            tilt = np.array(spec.geom("seabed").quat)
+            normal = np.zeros(9)
+            mujoco.mju_quat2Mat(normal, tilt)
+            n = normal[[2, 5, 8]]
+            R = d.xmat[torso.id].reshape(3, 3)
+            fwd = R[:, 0] - (R[:, 0] @ n) * n  # the body's forward axis in the seabed's plane
+            want = np.array([math.cos(self.heading), math.sin(self.heading), 0.0])
+            want = want - (want @ n) * n
+            turn = math.atan2(np.cross(fwd, want) @ n, fwd @ want)
+            q_turn = np.zeros(4)
+            mujoco.mju_axisAngle2Quat(q_turn, n, turn)
+            q = np.zeros(4)
+            mujoco.mju_mulQuat(q, q_turn, d.qpos[adr + 3:adr + 7].copy())
+            x, y = self.sc["robot"]["start"]
+            start = np.array([x, y, self.seabed_z(x, y)])
+            p = d.qpos[adr:adr + 3].copy()
+            p = start + (p - start) @ n * n  # same height over the seabed, at the commanded place
+            d.qpos[adr:adr + 3], d.qpos[adr + 3:adr + 7] = p, q / np.linalg.norm(q)
+            d.qvel[:6] = 0.0
+            sim.forward()
+            pose = {}
+            for j in range(m.njnt):  # every joint of the walker's bodies, by (body, index in body)
+                body = mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_BODY, int(m.jnt_bodyid[j])) or ""
+                if body.startswith("walker/"):
+                    adr, dof = m.jnt_qposadr[j], m.jnt_dofadr[j]
+                    nq, nv = {0: (7, 6), 1: (4, 3), 2: (1, 1), 3: (1, 1)}[int(m.jnt_type[j])]
+                    key = (body, j - int(m.body_jntadr[m.jnt_bodyid[j]]))
+                    pose[key] = (d.qpos[adr:adr + nq].copy(), d.qvel[dof:dof + nv].copy())
+            self._stand_ctrl = d.ctrl.copy()
+            self.gait.phase = gait.phase  # the run goes on stepping from where it stood
+            return pose, d.site_xpos[m.site("walker/tow_point").id].copy()
+
     def seabed_z(self, x, y):
         """Height (m) of the (possibly sloped) seabed at ``x``, ``y`` (m)."""
         return builder.seabed_height(self.water, x, y, self.slope, self.slope_heading)
@@ -248,26 +338,41 @@ class ScenarioRun:
     def _initial_state(self, top, robot, dt):
         """The quasi-static steady state to start from (with the tow point on the seabed the
         seabed is taken one cable radius lower, where the cable's axis lies), or ``None`` and
-        why, if the solver fails; the run then starts from ``_fallback_nodes`` and settles."""
+        why, if there is none; the run then stops, or starts from ``_fallback_nodes`` and
+        settles where the scenario asks for it (``simulation.start``)."""
         radius = self.tether_spec.diameter / 2
-        # the cable's axis rests one radius above the seabed; a walker's tow point is higher,
-        # and the steady state then lays the cable at the tow point's height, from where it
-        # drops onto the seabed in the first second
-        # (on a sloped seabed: a flat one at the depth under the tow point, kept if the line it
-        # gives stays clear of the slope)
-        depth = min(-self.seabed_z(robot[0], robot[1]) - radius, -robot[2])
+        # the cable's axis rests one radius above the seabed; a walker's tow point is higher: the
+        # steady state is solved to the point on the seabed under it, for the length less that
+        # height, and the cable then rises straight up to the tow point (on a sloped seabed: a
+        # flat one at the depth under the tow point, kept if the line it gives stays clear of
+        # the slope)
+        depth = -self.seabed_z(robot[0], robot[1]) - radius
+        rise = max(robot[2] + depth, 0.0) if self.walker else 0.0
+        foot = np.array([robot[0], robot[1], robot[2] - rise])
         water = wm.WaterColumn(depth=depth, density=self.water.density,
                                current=self.water.current, gravity=self.water.gravity)
-        ss, note = self._solve_start(water, top, robot, dt)
+        L = self.tether_spec.length
+        if rise >= 0.5 * L:
+            return None, f"no steady state (the tow point is {rise:.2f} m above the seabed, the tether {L:g} m long)"
+        ss, note = self._solve_start(water, top, foot, dt, length=L - rise)
         if ss is None:
             return None, note
+        if rise > 0:  # material points s_k = k L / N on the solved line, then up to the tow point
+            N = self.tether_spec.segments
+            s_solved = np.linspace(0.0, L - rise, N + 1)
+            pts = np.vstack([ss.nodes, robot])
+            s_pts = np.r_[s_solved, L]
+            s_new = np.linspace(0.0, L, N + 1)
+            nodes = np.c_[[np.interp(s_new, s_pts, pts[:, k]) for k in range(3)]].T
+            ss = replace(ss, nodes=nodes, velocity=np.zeros_like(nodes), tension=np.interp(
+                0.5 * (s_new[1:] + s_new[:-1]), 0.5 * (s_solved[1:] + s_solved[:-1]), ss.tension))
         x = ss.nodes
         below = float(np.max(self.seabed_z(x[:, 0], x[:, 1]) + radius - x[:, 2]))
         if below > self.tether_spec.diameter:
-            return None, f"a hanging and laid line (the steady state crosses the sloped seabed by {below:.2f} m)"
+            return None, f"no steady state clear of the sloped seabed (it crosses it by {below:.2f} m)"
         return ss, note
 
-    def _solve_start(self, water, top, robot, dt):
+    def _solve_start(self, water, top, robot, dt, length=None):
         """``initial_state`` for the scenario's tether, with retries: the laid part's tension
         has a kink where seabed friction takes it all, and a coarse tether's touchdown jumps
         from element to element; either can stall Newton. So: as given; with 4N elements,
@@ -275,7 +380,11 @@ class ScenarioRun:
         (MuJoCo's soft friction does not hold a laid tension gradient for long anyway).
         Returns (state, note) or (None, why)."""
         cb = self.sc["tether"]["seabed_friction"]
-        spec = self.tether_spec
+        spec = self.tether_spec if length is None else replace(self.tether_spec, length=length)
+        sim = self.sc["simulation"]
+        layout = dict(layout=sim["laid_layout"], layout_angle=math.radians(sim["laid_layout_angle_deg"]))
+        if self.walker:  # slack cable lies back along the walker's track
+            layout["layout_direction"] = (-math.cos(self.heading), -math.sin(self.heading))
         n4 = f" solved with {4 * spec.segments} elements"
         tries = [(1, cb, ""), (4, cb, n4)]
         if cb > 0:
@@ -284,17 +393,17 @@ class ScenarioRun:
         for k, friction, how in tries:
             try:
                 ss = initial_state(replace(spec, segments=k * spec.segments), water, top, robot, timestep=dt,
-                                   seabed=True, seabed_friction=friction)
+                                   seabed=True, seabed_friction=friction, **layout)
             except RuntimeError as exc:  # Newton stalled: try the next way
                 first = first or exc
                 continue
-            except ValueError as exc:  # no straight-laid steady state exists
-                return None, f"a hanging and laid line (no steady state: {exc})"
+            except ValueError as exc:  # no steady state exists
+                return None, f"no steady state ({exc})"
             if k > 1:
                 ss = replace(ss, nodes=ss.nodes[::k].copy(), velocity=ss.velocity[::k].copy(),
                              tension=ss.tension.reshape(-1, k).mean(axis=1), jacobian=None)
             return ss, "quasi-static steady state" + (f"{how} (as given: {first})" if how else "")
-        return None, f"a hanging and laid line (no steady state: {first})"
+        return None, f"no steady state (the solver did not converge: {first})"
 
     def _fallback_nodes(self, top, robot) -> np.ndarray:
         """A start that stays above the seabed when there is no steady state: the cable hangs
@@ -337,8 +446,16 @@ class ScenarioRun:
         if not self.walker:
             return
         self._since_control += dt
+        self.heading_ref += turn_rate * dt
         if self._since_control >= 1.0 / CONTROL_HZ - 1e-9:
-            self.sim.data.ctrl[self.gait.actuators] = self.gait.targets(self._since_control, speed, turn_rate)
+            # heading hold: the open-loop gait drifts, and the tether's pull turns the walker
+            R = self.sim.data.xmat[self.torso].reshape(3, 3)
+            err = (self.heading_ref - math.atan2(R[1, 0], R[0, 0]) + math.pi) % (2 * math.pi) - math.pi
+            turn = max(-MAX_TURN, min(MAX_TURN, turn_rate + HEADING_GAIN * err))
+            # speed changes ramp at WALK_ACCEL: a step in stride jerks the stance legs
+            dv = WALK_ACCEL * self._since_control
+            self._speed = max(self._speed - dv, min(self._speed + dv, speed))
+            self.sim.data.ctrl[self.gait.actuators] = self.gait.targets(self._since_control, self._speed, turn)
             self._since_control = 0.0
 
     def robot_state(self):

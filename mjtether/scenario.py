@@ -40,6 +40,13 @@ SCHEMA: dict[str, dict[str, Key]] = {
         "duration": Key("float", 120.0, 0.0, 1e6, "s", "simulated time"),
         "timestep": Key("float", 0.005, 1e-5, 0.05, "s", "MuJoCo time step (see mjtether.stability)"),
         "output_interval": Key("float", 0.5, 1e-3, 1e4, "s", "time between recorded samples"),
+        "start": Key("str", "steady", doc="steady: from the quasi-static steady state, or stop with the reason if "
+                     "there is none; settle: the cable falls into place from a guessed shape while the robot is "
+                     "held, then the robot is released; auto: steady if it exists, else settle",
+                     choices=("steady", "settle", "auto")),
+        "laid_layout": Key("str", "straight", doc="how slack cable lies on the seabed at the start: straight back "
+                           "along the robot's track, an arc, or an s", choices=("straight", "arc", "s")),
+        "laid_layout_angle_deg": Key("float", 90.0, 1.0, 359.0, "deg", "arc / s: total turn of the slack cable"),
     },
     "water": {
         "depth": Key("float", 200.0, 0.1, 12000.0, "m", "seabed depth (positive)"),

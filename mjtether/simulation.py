@@ -127,14 +127,17 @@ class BoundTether:
         the current ``first`` and ``drum_rest`` (every node and element)."""
         m, d, k, n = self.model, self.data, self.first, self.n
         m.body_gravcomp[self._bids] = (np.arange(n + 1) < k).astype(float)
-        d.eq_active[self._eqs] = np.arange(n) >= k
         if self.drum_eq is not None:
             d.eq_active[self.drum_eq] = 0
             d.eq_active[self.drum_eq[k]] = 1
-        z = self._x()[:, 2]
+        x = self._x()
+        z = x[:, 2]
         zc = np.minimum(0.5 * (z[1:] + z[:-1]), 0.0)
         self._added_per_m = self._ca_A * np.asarray(self.water.rho(zc), float)  # kg/m, per element
         self._update(0, n)
+        # taut elements (as long as their rest length or longer) start active, slack ones not
+        length = np.linalg.norm(np.diff(x, axis=0), axis=1)
+        d.eq_active[self._eqs] = (np.arange(n) >= k) & (length >= self._rest * (1 - 1e-9))
 
     def _update(self, j0: int, j1: int) -> None:
         """Refresh elements j0..j1-1 and their nodes j0..j1 after a change of rest lengths."""
