@@ -99,7 +99,8 @@ class TetherEnv(gym.Env):
         length = self.tether_length * (1.0 + noise * rng.uniform(-1.0, 1.0))
         length = float(np.clip(length, self.min_length, self.max_length))
         return {
-            "simulation": {"timestep": self.timestep, "duration": 1e5, "output_interval": self.dt},
+            # a steady-state start where one exists, else the cable settles with the walker held
+            "simulation": {"timestep": self.timestep, "duration": 1e5, "output_interval": self.dt, "start": "auto"},
             "water": {"depth": self.depth,
                       "current": {"type": "exponential", "surface_speed": float(rng.uniform(0.0, self.current_max)),
                                   "decay_depth": float(rng.uniform(10.0, 40.0)),
@@ -145,7 +146,7 @@ class TetherEnv(gym.Env):
         r = self.runner
         x = r.bt.nodes(r.sim.data)
         on = x[:, 2] < r.seabed_z(x[:, 0], x[:, 1]) + self.diameter
-        return r.bt.segment_length * float(np.sum(on[1:] & on[:-1]))
+        return float(r.bt.rest_lengths[r.bt.first:][on[1:] & on[:-1]].sum())
 
     def currents(self) -> np.ndarray:
         """Current (x, y) at the observed depths, flattened (m/s)."""

@@ -72,6 +72,8 @@ HEADING_GAIN = 2.0
 """Heading hold of the walker (1/s): turn rate added per radian of heading error."""
 MAX_TURN = 0.5
 """Largest turn rate (rad/s) the heading hold asks of the gait."""
+MAX_START_STRAIN = 0.1
+"""A steady state stretching the tether by more than this is not taken as a start."""
 STAND_S = 2.0
 """Seconds the walker stands alone on the seabed to find its resting pose before the run is built."""
 SETTLE_S = 10.0
@@ -245,6 +247,14 @@ class ScenarioRun:
                                      water=self.water, nodes=nodes, seabed_friction=sc["tether"]["seabed_friction"],
                                      max_length=self.winch.max_length, end_at=robot if self.walker else None)
         self.sim = Simulation(spec, self.water, tethers=[self.tm], bodies=bodies)
+        try:
+            self._start(sc, dt, settle)
+        except BaseException:
+            self.sim.close()  # a run that cannot start leaves nothing registered
+            raise
+
+    def _start(self, sc: dict, dt: float, settle: bool) -> None:
+        """Bind the controllers, set the walker's standing pose and pre-roll (see __init__)."""
         self.bt = self.sim.tether()
         m = self.sim.model
         self._since_control = 1.0 / CONTROL_HZ  # the first call sets the targets
@@ -352,6 +362,10 @@ class ScenarioRun:
         water = wm.WaterColumn(depth=depth, density=self.water.density,
                                current=self.water.current, gravity=self.water.gravity)
         L = self.tether_spec.length
+        reach = float(np.linalg.norm(robot - top))
+        if self.tether_spec.EA is None and reach >= L:
+            return None, (f"no steady state (an inextensible tether of {L:g} m cannot reach from the ship to the "
+                          f"robot, {reach:.2f} m away)")
         if rise >= 0.5 * L:
             return None, f"no steady state (the tow point is {rise:.2f} m above the seabed, the tether {L:g} m long)"
         ss, note = self._solve_start(water, top, foot, dt, length=L - rise)
@@ -367,6 +381,10 @@ class ScenarioRun:
             ss = replace(ss, nodes=nodes, velocity=np.zeros_like(nodes), tension=np.interp(
                 0.5 * (s_new[1:] + s_new[:-1]), 0.5 * (s_solved[1:] + s_solved[:-1]), ss.tension))
         x = ss.nodes
+        EA = self.tether_spec.EA
+        if EA is not None and ss.tension.max() > MAX_START_STRAIN * EA:
+            return None, (f"no steady state within the tether's strength (it would be stretched by "
+                          f"{100 * ss.tension.max() / EA:.0f} %, at {ss.tension.max():.3g} N)")
         below = float(np.max(self.seabed_z(x[:, 0], x[:, 1]) + radius - x[:, 2]))
         if below > self.tether_spec.diameter:
             return None, f"no steady state clear of the sloped seabed (it crosses it by {below:.2f} m)"
@@ -468,16 +486,31 @@ class ScenarioRun:
         mujoco.mj_objectVelocity(self.sim.model, d, mujoco.mjtObj.mjOBJ_BODY, self.torso, vel, 0)
         return d.site_xpos[self.tow_site].copy(), math.atan2(R[1, 0], R[0, 0]), float(np.hypot(*vel[3:5])), R
 
+    def progress_rate(self) -> float:
+        """The robot's velocity (m/s) along the cable's direction at the robot, away from the
+        ship: the horizontal direction from the cable's node one nominal element back (or the
+        ship, if it is straight above) to the tow point."""
+        if not self.walker:
+            return 0.0
+        d = self.sim.data
+        x = self.bt.nodes(d)
+        e = x[-1, :2] - x[-2, :2]
+        if np.hypot(*e) < 1e-3 * self.bt.l0:
+            e = x[-1, :2] - d.mocap_pos[self.ship_mocap][:2]
+        vel = np.zeros(6)
+        mujoco.mj_objectVelocity(self.sim.model, d, mujoco.mjtObj.mjOBJ_SITE, self.tow_site, vel, 0)
+        return float(vel[3:5] @ e / max(np.hypot(*e), 1e-9))
+
     def step(self) -> None:
         sim, dt = self.sim, self.sim.timestep
         t = sim.time
-        tow, _, speed, _ = self.robot_state()
+        tow = self.robot_state()[0]
         if self.walker:
             self._drive(dt, *self.command(t))
         fair = self.ship.advance(dt, t, tow)
         sim.data.mocap_pos[self.ship_mocap] = fair
         tension = self.bt.end_tension(sim.data, "start")
-        self.bt.set_length(self.winch.advance(dt, t, tension, speed), rate=self.winch.current_rate)
+        self.bt.set_length(self.winch.advance(dt, t, tension, self.progress_rate()), rate=self.winch.current_rate)
         sim.step()
         if self.bt.end_tension(sim.data, "start") > self.rated_load:
             raise RunFailed(f"ship-end tension {self.bt.end_tension(sim.data, 'start'):.0f} N exceeded the "

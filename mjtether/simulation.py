@@ -26,7 +26,8 @@ _BADQPOS, _BADQVEL, _BADQACC = (int(w) for w in (mujoco.mjtWarning.mjWARN_BADQPO
 MAX_NODE_SPEED = 1000.0
 """Tether node speed (m/s) taken as divergence: no cable in water moves at 1 km/s."""
 MAX_STRAIN = 1.0
-"""Element strain taken as divergence: a cable stretched to twice its length has failed."""
+"""Stretch of an element, over the nominal element length, taken as divergence: a cable
+stretched to twice its length has failed."""
 FAIRLEAD_SHARE = 0.05
 """Part of the drum element, in units of l0, lumped on the fairlead node (see ``_update``)."""
 SPLIT, MERGE = 1.2, 0.1
@@ -68,6 +69,13 @@ class BoundTether:
         self._row_cache: dict[int, slice] = {}
         self.eq0 = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_EQUALITY, tm.element_tendon(0))
         self._eqs = slice(self.eq0, self.eq0 + n)
+        # constraint rows of each equality defined before the elements' (see _element_rows)
+        rows_of = {int(mujoco.mjtEq.mjEQ_CONNECT): 3, int(mujoco.mjtEq.mjEQ_WELD): 6, int(mujoco.mjtEq.mjEQ_JOINT): 1,
+                   int(mujoco.mjtEq.mjEQ_TENDON): 1}
+        before = model.eq_type[:self.eq0]
+        if any(int(t) not in rows_of for t in before):
+            raise ValueError("a tether must be added before any flex equality of the spec")
+        self._rows_before = np.array([rows_of[int(t)] for t in before], dtype=np.int64)
         start = tm.connects.get("start")
         self.drum_eq = None if start is None else np.array(
             [mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_EQUALITY, c) for c in start])
@@ -198,27 +206,26 @@ class BoundTether:
     def update_slack(self) -> None:
         """Switch elements between taut and slack after a step: an element shorter than its rest
         length whose equality pushes (compression) goes slack; a slack one longer than its rest
-        length is taut again.
-        (MuJoCo's one-sided limit constraints chatter at the stiffness a long time step allows,
-        so tension only is made this way, from two-sided equalities.)"""
-        d, k, n = self.data, self.first, self.n
+        length is taut again. (MuJoCo's one-sided limit constraints chatter at the stiffness a
+        long time step allows, so tension only is made this way, from two-sided equalities.)"""
+        d, k = self.data, self.first
         act = d.eq_active[self._eqs]
-        if d.nefc:
-            rows = self._element_rows(d)
-            f = d.efc_force[rows]
-            push = d.efc_id[rows][f > 0.0] - self.eq0  # efc_force > 0 pushes the nodes apart
+        rows = self._element_rows(d)
+        f = d.efc_force[rows]
+        if len(f) and f.max() > 0.0:  # efc_force > 0 pushes the nodes apart
+            push = np.flatnonzero(act)[f > 0.0]
             act[push[d.ten_length[self.tadr + push] < self._rest[push]]] = 0
-        slack = np.nonzero(act[k:] == 0)[0] + k
-        if len(slack):
-            taut = slack[d.ten_length[self.tadr + slack] > self._rest[slack]]
-            act[taut] = 1
+        if rows.stop - rows.start < self.n - k:
+            slack = np.flatnonzero(act[k:] == 0) + k
+            act[slack[d.ten_length[self.tadr + slack] > self._rest[slack]]] = 1
         d.eq_active[self._eqs] = act
 
-    def _element_rows(self, data) -> np.ndarray:
-        """Constraint rows of the active element equalities (one each)."""
-        ne = data.nefc
-        ids = data.efc_id[:ne]
-        return np.nonzero((data.efc_type[:ne] == _EQUALITY) & (ids >= self.eq0) & (ids < self.eq0 + self.n))[0]
+    def _element_rows(self, data) -> slice:
+        """Constraint rows of the active element equalities: one each, in element order, after
+        the rows of the active equalities defined before them (MuJoCo orders equality rows by
+        equality)."""
+        r0 = int(self._rows_before @ data.eq_active[:self.eq0]) if self.eq0 else 0
+        return slice(r0, r0 + int(np.count_nonzero(data.eq_active[self._eqs])))
 
     def payout_state(self) -> tuple[int, float]:
         """(first deployed node, drum element rest length in m): with MuJoCo's state (qpos,
@@ -368,7 +375,9 @@ class BoundTether:
         tension only); 0 for slack elements and those on the drum."""
         rows = self._element_rows(data)
         out = np.zeros(self.n)
-        out[data.efc_id[rows] - self.eq0] = np.maximum(-data.efc_force[rows], 0.0)
+        if rows.stop > data.nefc:
+            raise RuntimeError("tether tension is available after mj_forward/mj_step")
+        out[np.flatnonzero(data.eq_active[self._eqs])] = np.maximum(-data.efc_force[rows], 0.0)
         out[:self.first] = 0.0
         return out
 
@@ -541,7 +550,8 @@ class Simulation:
                 self._diverged(d.time, f"{name} node {i} (of {t.N + 1} deployed, 0 at the ship) moves at "
                                        f"{vmax:.3g} m/s")
             if t.spec.EA is not None:
-                strain = d.ten_length[t.tadr + k:t.tadr + t.n] / np.maximum(t._deployed_rest, 1e-9) - 1.0
+                # stretch over the nominal element length (the drum element may be short)
+                strain = (d.ten_length[t.tadr + k:t.tadr + t.n] - t._deployed_rest) / t.l0
                 j = int(np.argmax(strain))
                 if strain[j] > MAX_STRAIN:
                     self._diverged(d.time, f"{name} element {j} (0 at the ship) is stretched by "

@@ -6,7 +6,12 @@ deployed length integrates it and stays within [min_length, max_length]. Modes:
 
 * ``"fixed"``: no payout;
 * ``"constant"``: payout (or reel-in, if negative) at ``rate``;
-* ``"follow"``: payout at the robot's speed, V_po = v_r (Khan et al. 2023, Eqs. 30-33);
+* ``"follow"``: payout at the robot's speed, V_po = v_r (Khan et al. 2023, Eqs. 30-33), taken
+  as its net progress along the cable: the caller passes the robot's signed velocity along the
+  cable's direction at the robot (away from the ship positive), and the winch low-pass filters
+  it over ``FOLLOW_FILTER_S``. A legged robot's gait makes that velocity jitter back and forth;
+  paying out on its magnitude, as before, paid out 40 m an hour for a walker standing still,
+  while the filtered net progress of a standing walker is zero (and reels in if it comes back);
 * ``"tension"``: keep the ship-end tension inside ``band`` = (low, high) N, as a constant-
   tension winch does: a PI regulator on the tension, low-pass filtered over ``TENSION_FILTER_S``
   (the gait and the cable's own vibration make it ripple), towards the band's centre. The
@@ -41,6 +46,10 @@ TENSION_FILTER_S = 2.0
 """Time constant (s) of the low-pass filter on the tension that the ``"tension"`` mode uses."""
 TENSION_INTEGRAL_S = 3.0
 """Integral time (s) of the ``"tension"`` mode's PI regulator."""
+
+FOLLOW_FILTER_S = 5.0
+"""Time constant (s) of the low-pass filter on the robot's progress in the ``"follow"`` mode
+(several gait cycles: the tripod gait's is 1.2 s)."""
 
 MODES = ("fixed", "constant", "follow", "tension", "external", "free")
 
@@ -81,6 +90,7 @@ class Winch:
         self._command = 0.0
         self._tension = None  # filtered tension (N), "tension" mode
         self._integral = 0.0  # integral part of the payout rate (m/s), "tension" mode
+        self._progress = None  # filtered progress of the robot along the cable (m/s), "follow" mode
         self.current_rate = 0.0  # m/s, the drum's payout rate now
 
     def command(self, rate: float) -> None:
@@ -95,7 +105,7 @@ class Winch:
         elif m == "constant":
             r = self.rate
         elif m == "follow":
-            r = robot_speed
+            r = robot_speed if self._progress is None else self._progress
         elif m == "external":
             r = self._command
         elif m == "free":
@@ -112,7 +122,9 @@ class Winch:
         return (tension - 0.5 * (lo + hi)) / (0.5 * (hi - lo))
 
     def advance(self, dt: float, t: float, tension: float, robot_speed: float = 0.0) -> float:
-        """Integrate the deployed length over ``dt`` (s); returns the new length (m)."""
+        """Integrate the deployed length over ``dt`` (s); returns the new length (m).
+        ``tension``: the ship-end tension (N); ``robot_speed``: the robot's velocity along the
+        cable, away from the ship (m/s; ``"follow"`` mode)."""
         if self.mode == "tension":
             self._tension = tension if self._tension is None else \
                 self._tension + min(dt / TENSION_FILTER_S, 1.0) * (tension - self._tension)
@@ -120,6 +132,9 @@ class Winch:
             # integral part, clamped to the drum's rate (anti-windup)
             self._integral = _clip(self._integral + dt / TENSION_INTEGRAL_S * self.max_rate * self._band_error(tension),
                                    -self.max_rate, self.max_rate)
+        elif self.mode == "follow":
+            self._progress = robot_speed if self._progress is None else \
+                self._progress + min(dt / FOLLOW_FILTER_S, 1.0) * (robot_speed - self._progress)
         want = self.payout_rate(t, tension, robot_speed)
         # brake in time for the length limits (on a curve a little gentler than max_accel, so the
         # acceleration-limited rate can follow it to zero), then limit the acceleration
