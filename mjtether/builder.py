@@ -17,39 +17,43 @@ and the discretisation that MoorDyn and Hong et al. (2020) use. Each node is a b
 three world slide joints carrying the lumped mass (half of each adjacent element); the flex
 gives every element a capsule of the cable's diameter for rendering and seabed contact.
 
-**Tension only.** Each element is a spatial tendon between the sites of its two nodes with an
-upper length limit at its rest length and a soft ``solreflimit``: MuJoCo's limit constraint is
-one-sided, so a taut element pulls and a slack one carries nothing, as cable (and MoorDyn's and
-OrcaFlex's segments) do. The flex's own edge equality, which we used before, is two-sided: slack
-elements pushed, and compression spikes appeared as tension wherever payout laid cable down.
-Cost against the equality (N = 200, all elements taut): 260 against 245 us per step; slack
-elements have no constraint row at all. Bending stiffness ``EI`` is a separate passive force
-(``hydro.bending_forces``), not part of the element force.
+**Tension only.** Each element is a spatial tendon between the sites of its two nodes, held
+at its rest length by a soft tendon equality that ``BoundTether.update_slack`` switches off
+(``eq_active``) while the element is slack: after a step, an element whose equality pushed goes
+slack, and a slack one stretched past its rest length is taut again; the step is then redone
+with that set (``Simulation``), so that elements do not push or overshoot for a step. A slack
+element carries nothing, as cable (and MoorDyn's and OrcaFlex's segments) do. The flex's own
+edge equality, used before, pushes as well as pulls: compression spikes appeared as tension
+wherever payout laid cable down. MuJoCo's one-sided tendon limits (``solreflimit``), the
+obvious alternative, chatter at the stiffness a long step allows: a limit row slowed to the
+step (impedance near 1) lets a node feel its full load in a step when it is slack and only
+(1 - impedance) of it when taut, so it bounces in and out of the limit (a still, hanging
+50 m line at 5 ms: tension noise of 50 % against 1e-8 with the equalities). Bending stiffness
+``EI`` is a separate passive force (``hydro.bending_forces``), not part of the element force.
 
 Elongation is physical. In static equilibrium MuJoCo's soft constraint stretches by
-r = R f / (k imp), with R = (1 - d)/d * A (A = ``efc_diagA``, which for a tendon limit is
+r = R f / (k imp), with R = (1 - d)/d * A (A = ``efc_diagA``, which for a tendon equality is
 ``tendon_invweight0``: we set it to the element's true inverse mass along its axis,
 1/m_i + 1/m_(i+1)), and k imp = S / d for a negative ``solref = (-S, -B)`` and constant
 impedance d. So an element of stiffness K = EA / l needs S = K (1 - d) A. The impedance d sets
 how fast the axial mode rings: d -> 0 is a plain spring at the physical frequency
 omega_ax = sqrt(K A); d -> 1 slows it. We keep the physical frequency when the time step
-resolves it (omega_ax dt <= 0.5) and otherwise slow the axial mode to 0.5 / dt, which keeps
-the static stretch T l / EA exact and the step stable. Where even d = 0.9999 (MuJoCo's
-largest impedance) cannot slow it enough, the element is made as stiff as that step allows
-and no stiffer: its effective EA is lower than asked (``effective_EA``); ``EA=None``
+resolves it (omega_ax dt <= AXIAL_OMEGA_DT = 0.4) and otherwise slow the axial mode to 0.4 / dt,
+which keeps the static stretch T l / EA exact and the step stable. Where even d = 0.9999
+(MuJoCo's largest impedance) cannot slow it enough, the element is made as stiff as that step
+allows and no stiffer: its effective EA is lower than asked (``effective_EA``); ``EA=None``
 (inextensible) always takes that limit (strain < 1e-3 at working tension).
 
 **Payout at the drum.** A compiled model cannot grow, so ``add_tether`` allocates nodes for
 ``max_length``: the cable is numbered from the drum's core (node 0) to the robot end (node n),
 and only nodes ``first`` .. n are deployed. Node ``first`` sits at the fairlead, held there by
 its own ``connect`` equality (one per node, switched through ``eq_active``); the element next
-to it, the drum element, has a rest length between 0.5 and 1.5 of the nominal element length
-l0 = L / N and takes all payout and reel-in; every other deployed element keeps l0. Paying out
-past 1.5 l0 releases the next node from the drum (the drum element splits into one of l0 and
-a new drum element of the rest); reeling in below 0.5 l0 takes a node back (the drum element
-merges with its neighbour). Nodes on the drum are parked: no equality, no element constraint,
-no hydrodynamic force, gravity compensated, at rest; they cost a few microseconds a step.
-``BoundTether.set_length`` does this at run time.
+to it, the drum element, takes all payout and reel-in; every other deployed element keeps the
+nominal length l0 = L / N. Paying out past 1.2 l0 releases the next node from the drum (the
+drum element splits into one of l0 and a new drum element of the rest); reeling in below
+0.1 l0 takes a node back (the drum element merges with its neighbour; see
+``simulation.SPLIT``). Nodes on the drum are parked: no equality, no hydrodynamic force,
+gravity compensated, at rest. ``BoundTether.set_length`` does this at run time.
 
 Ends: every end is a node body, joined to its support (a world site for a fixed point, a site
 on the ship or robot) by a stiff ``connect`` equality whose force is the force of the tether on
@@ -78,7 +82,11 @@ from .tether import TetherSpec
 from .water import WaterColumn
 
 MIN_IMP, MAX_IMP = 1e-4, 0.9999  # MuJoCo's mjMINIMP, mjMAXIMP
-AXIAL_OMEGA_DT = 0.5  # largest omega * dt given to the axial mode
+AXIAL_OMEGA_DT = 0.4
+"""Largest omega * dt given to the axial mode. MuJoCo applies the constraint's damping
+explicitly; with critical damping the highest mode of a chain is stable only for omega dt <
+sqrt(6) - 2 = 0.449, and tensions came out 4-45 % off for elements whose physical frequency sat
+at 0.45-0.53 / dt under the former cap of 0.5 (tests/test_axial_band.py)."""
 
 
 # ------------------------------------------------------------------------------ anchors

@@ -30,6 +30,11 @@ MAX_STRAIN = 1.0
 stretched to twice its length has failed."""
 FAIRLEAD_SHARE = 0.05
 """Part of the drum element, in units of l0, lumped on the fairlead node (see ``_update``)."""
+_STATE = mujoco.mjtState.mjSTATE_INTEGRATION
+SLACK_REDOS = 3
+"""Times a step is redone at most while elements switch between taut and slack in it."""
+START_SLACK = 0.01
+"""An element shorter than its rest length by more than this fraction starts slack."""
 SPLIT, MERGE = 1.2, 0.1
 """The drum element (next to the fairlead) releases a node from the drum when its rest length
 passes SPLIT x the nominal element length l0, and takes one back below MERGE x l0. The node that
@@ -95,6 +100,7 @@ class BoundTether:
         self.first = tm.first
         self.drum_rest = self.l0
         self.payout_rate = 0.0  # m/s, of the last set_length
+        self._eq_snapshot = None  # Simulation's copy of eq_active at the last force computation
         self._mu = s.mu
         self._ca_A = s.ca_normal * s.area
         self._relayout()
@@ -143,9 +149,10 @@ class BoundTether:
         zc = np.minimum(0.5 * (z[1:] + z[:-1]), 0.0)
         self._added_per_m = self._ca_A * np.asarray(self.water.rho(zc), float)  # kg/m, per element
         self._update(0, n)
-        # taut elements (as long as their rest length or longer) start active, slack ones not
+        # elements about as long as their rest length or longer start taut, clearly slack ones
+        # slack (an element started taut that pushes is switched off at the first step)
         length = np.linalg.norm(np.diff(x, axis=0), axis=1)
-        d.eq_active[self._eqs] = (np.arange(n) >= k) & (length >= self._rest * (1 - 1e-9))
+        d.eq_active[self._eqs] = (np.arange(n) >= k) & (length >= self._rest * (1 - START_SLACK))
 
     def _update(self, j0: int, j1: int) -> None:
         """Refresh elements j0..j1-1 and their nodes j0..j1 after a change of rest lengths."""
@@ -203,29 +210,49 @@ class BoundTether:
         target = self._rest[js] + np.where(js == self.first, self._lead[js] * self.payout_rate, 0.0)
         self.model.eq_data[self.eq0 + js, 0] = target - self.model.tendon_length0[self.tadr + js]
 
-    def update_slack(self) -> None:
-        """Switch elements between taut and slack after a step: an element shorter than its rest
-        length whose equality pushes (compression) goes slack; a slack one longer than its rest
-        length is taut again. (MuJoCo's one-sided limit constraints chatter at the stiffness a
-        long time step allows, so tension only is made this way, from two-sided equalities.)"""
+    def update_slack(self, taut: bool = True) -> bool:
+        """Switch elements between taut and slack after a step: an element whose equality pushed
+        (compression) goes slack; a slack one longer than its rest
+        length is taut again (with ``taut`` False, only elements shorter than their rest length go
+        slack, and none is switched on: the last pass of a step redone). Returns whether anything changed
+        (``Simulation`` then redoes the step with the new set, so that no element pushes and none
+        overshoots its rest length for a step). (MuJoCo's one-sided limit constraints chatter at the stiffness a long time
+        step allows, so tension only is made this way, from two-sided equalities.)"""
         d, k = self.data, self.first
-        act = d.eq_active[self._eqs]
+        act = d.eq_active[self._eqs].copy()
         rows = self._element_rows(d)
         f = d.efc_force[rows]
+        changed = False
         if len(f) and f.max() > 0.0:  # efc_force > 0 pushes the nodes apart
             push = np.flatnonzero(act)[f > 0.0]
-            act[push[d.ten_length[self.tadr + push] < self._rest[push]]] = 0
-        if rows.stop - rows.start < self.n - k:
+            if not taut:  # the last time round: only elements shorter than their rest length
+                push = push[d.ten_length[self.tadr + push] < self._rest[push]]
+            if len(push):  # (shorter than its rest length or not: a cable's damping cannot push)
+                act[push] = 0
+                changed = True
+        if taut and rows.stop - rows.start < self.n - k:
             slack = np.flatnonzero(act[k:] == 0) + k
-            act[slack[d.ten_length[self.tadr + slack] > self._rest[slack]]] = 1
-        d.eq_active[self._eqs] = act
+            taut = slack[d.ten_length[self.tadr + slack] > self._rest[slack]]
+            if len(taut):
+                act[taut] = 1
+                changed = True
+        if changed:
+            d.eq_active[self._eqs] = act
+        return changed
 
     def _element_rows(self, data) -> slice:
         """Constraint rows of the active element equalities: one each, in element order, after
         the rows of the active equalities defined before them (MuJoCo orders equality rows by
         equality)."""
-        r0 = int(self._rows_before @ data.eq_active[:self.eq0]) if self.eq0 else 0
-        return slice(r0, r0 + int(np.count_nonzero(data.eq_active[self._eqs])))
+        active = self.efc_active(data)
+        r0 = int(self._rows_before @ active[:self.eq0]) if self.eq0 else 0
+        return slice(r0, r0 + int(np.count_nonzero(active[self._eqs])))
+
+    def efc_active(self, data) -> np.ndarray:
+        """``eq_active`` as it was when MuJoCo last computed the constraint forces (the slack
+        switching changes it after a step, for the next one)."""
+        snap = self._eq_snapshot
+        return data.eq_active if snap is None else snap
 
     def payout_state(self) -> tuple[int, float]:
         """(first deployed node, drum element rest length in m): with MuJoCo's state (qpos,
@@ -299,6 +326,12 @@ class BoundTether:
         s, k = self.spec, self.first
         x = data.flexvert_xpos[self.vertadr + k:self.vertadr + self.n + 1]
         v = data.qvel[self._dof0 + 3 * k:self._dof0 + 3 * (self.n + 1)].reshape(-1, 3)
+        if self.payout_rate and self.drum_eq is not None:
+            # the cable at the fairlead moves out of the drum at the payout rate, along the drum
+            # element: its drag acts on that material velocity, not on the fairlead node's
+            e = x[1] - x[0]
+            v = v.copy()
+            v[0] += self.payout_rate / max(math.sqrt(e @ e), 1e-9) * e
         f = tether_loads(x, v, segment_length=self._deployed_rest, diameter=s.diameter,
                          cd_normal=s.cd_normal, cd_tangential=s.cd_tangential,
                          rho_fn=self.water.rho, current_fn=self.water.velocity,
@@ -377,7 +410,7 @@ class BoundTether:
         out = np.zeros(self.n)
         if rows.stop > data.nefc:
             raise RuntimeError("tether tension is available after mj_forward/mj_step")
-        out[np.flatnonzero(data.eq_active[self._eqs])] = np.maximum(-data.efc_force[rows], 0.0)
+        out[np.flatnonzero(self.efc_active(data)[self._eqs])] = np.maximum(-data.efc_force[rows], 0.0)
         out[:self.first] = 0.0
         return out
 
@@ -438,6 +471,10 @@ class Simulation:
                 raise ValueError("bodies must be BodyHydroModel objects returned by add_body_hydro")
             self.bodies.append(BoundBodyHydro(bm, self.model, water))
         self._providers = [*self.tethers.values(), *self.bodies]
+        self._buf = np.empty(mujoco.mj_stateSize(self.model, _STATE))
+        self._eq_snapshot = self.data.eq_active.copy()
+        for t in self.tethers.values():
+            t._eq_snapshot = self._eq_snapshot
         self._closed = False
         self._bad_acc0 = 0
         dispatch.register(self.data, self._passive)
@@ -462,6 +499,7 @@ class Simulation:
     def forward(self) -> None:
         """Recompute forces and readouts for the current state without stepping."""
         mujoco.mj_forward(self.model, self.data)
+        self._eq_snapshot[:] = self.data.eq_active
         dispatch.raise_pending(self.data)
 
     def step(self, nstep: int = 1) -> None:
@@ -491,10 +529,28 @@ class Simulation:
             mujoco.mj_step(self.model, self.data, nstep)
             return
         tethers = list(self.tethers.values())
+        m, d, buf, spec = self.model, self.data, self._buf, _STATE
+        snap = self._eq_snapshot
         for _ in range(nstep):
-            mujoco.mj_step(self.model, self.data)
+            mujoco.mj_getState(m, d, buf, spec)
+            mujoco.mj_step(m, d)
+            snap[:] = d.eq_active
+            changed = False
             for t in tethers:
-                t.update_slack()
+                changed |= t.update_slack()
+            redo = 0
+            while changed:  # redo the step with the elements taut now (see update_slack)
+                redo += 1
+                active = d.eq_active.copy()
+                mujoco.mj_setState(m, d, buf, spec)
+                d.eq_active[:] = active
+                mujoco.mj_step(m, d)
+                snap[:] = d.eq_active
+                if redo > SLACK_REDOS:
+                    break
+                changed = False
+                for t in tethers:  # the last time round, only switch off elements that pushed
+                    changed |= t.update_slack(taut=redo < SLACK_REDOS)
 
     def save_state(self):
         """Everything needed to continue exactly from here (MuJoCo's integration state and the

@@ -104,24 +104,28 @@ def drag_rate(tether: TetherSpec, water: WaterColumn, relative_speed: float | No
 
 
 def expected_tension(tether: TetherSpec, water: WaterColumn, relative_speed: float | None = None) -> float:
-    """Tension (N) to plan the step for when none is given: the cable's wet weight, |w| L, plus
-    the normal drag of the current on all of it, 1/2 rho C_dn d integral of u^2 along a cable
-    hanging straight down from the surface and then along the seabed (or of
-    ``relative_speed``^2 everywhere, if given). The weight of a cable hanging from its top end
-    is |w| L; a catenary to a point on or near the seabed pulls less at the top. Not included:
-    bodies hung on the cable, pretension of a taut span (give ``tension`` for those)."""
+    """Tension (N) to plan the step for when none is given: the larger of the cable's wet weight
+    |w| L and half the normal drag of the current on all of it, F / 2, with F = 1/2 rho C_dn d
+    times the integral of u^2 along a cable hanging straight down from the surface and then
+    lying along the seabed (or ``relative_speed``^2 everywhere, if given).
+
+    A cable hanging from its top end carries its weight there (a catenary to a point on or
+    near the seabed a little less: 0.85 |w| L measured at the ship of a 100 m line spanning 80 m
+    at 50 deg); a span held across a current carries about half its drag at each end (0.2-0.35
+    F measured at the top of 100 m lines spanning 80 m). Not included: bodies hung on the cable,
+    the pretension of a taut span, a free-ended cable held across the flow (which carries all of
+    F at its top): give ``tension`` for those."""
     rho_lo, rho_hi = _water_rho(water)
-    g = water.gravity
-    w = max(abs(tether.mu - rho_lo * tether.area), abs(tether.mu - rho_hi * tether.area)) * g
+    w = max(abs(tether.mu - rho_lo * tether.area), abs(tether.mu - rho_hi * tether.area)) * water.gravity
     L = tether.length
-    s = np.linspace(0.0, L, 2001)
     if relative_speed is None:
+        s = np.linspace(0.0, L, 2001)
         u2 = np.asarray(water.current.speed_at(-np.minimum(s, water.depth)), float) ** 2
         mean_u2 = float(np.mean(0.5 * (u2[1:] + u2[:-1])))
     else:
         mean_u2 = float(relative_speed) ** 2
     drag = 0.5 * rho_hi * tether.cd_normal * tether.diameter * mean_u2 * L
-    return w * L + drag
+    return max(w * L, 0.5 * drag)
 
 
 def string_omega(tether: TetherSpec, water: WaterColumn, tension: float) -> float:

@@ -5,7 +5,8 @@ in a 2.5 m/s exponential current (decay depth 15 m) and a linear density profile
 980 kg/m^3 over 500 m), simulated for 60 s from rest on the still-water catenary shape.
 
 Targets (issue 2): cost(N=400) <= 4.5 cost(N=100); N=200 at least 10x faster than real time
-with a stable step. Stability is checked two ways: the drag rate lambda (see
+with a stable step (issue 12: at least 25x). Also the cost of a drum: a 200-element tether with
+10 % and with 100 % of it deployed (the rest parked on the drum). Stability is checked two ways: the drag rate lambda (see
 ``mjtether.stability``) gives lambda dt < 1, and with ``--check`` the N=200 run is repeated
 at half the step: the ship-end tension after 60 s must agree within 1 %.
 
@@ -51,6 +52,28 @@ def run(N: int, dt: float, duration: float = 60.0):
                 lam_dt=mt.stability.drag_rate(tether, water) * dt)
 
 
+def run_deployed(fraction: float, dt: float, duration: float = 20.0, capacity: int = 200):
+    """Cost per step (us) of a drum holding a 1000 m, 200-element tether with ``fraction`` of it
+    deployed straight down (the rest parked on the drum), in the same water."""
+    water = mt.WaterColumn(depth=1000.0, density=mt.LinearDensity(1025.0, 980.0, 500.0),
+                           current=mt.ExponentialCurrent(2.5, decay_depth=15.0))
+    n = max(1, int(round(fraction * capacity)))
+    L = 1000.0 * n / capacity
+    tether = mt.TetherSpec(length=L, segments=n, diameter=0.02, density=1050.0)
+    spec = mujoco.MjSpec()
+    spec.option.timestep = dt
+    spec.option.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST
+    nodes = np.outer(np.linspace(0.0, L, n + 1), [0.0, 0.0, -1.0])
+    tm = mt.add_tether(spec, tether, mt.FixedPoint([0, 0, 0]), mt.FreeEnd(), water=water, nodes=nodes,
+                       max_length=1000.0)
+    with mt.Simulation(spec, water, [tm]) as sim:
+        sim.step(10)
+        steps = int(round(duration / dt))
+        t0 = time.perf_counter()
+        sim.step(steps)
+        return (time.perf_counter() - t0) / steps * 1e6
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--json", action="store_true", help="print one JSON object")
@@ -64,6 +87,9 @@ def main(argv=None):
            "ship_tension_N": [round(res[N]["top"], 2) for N in SEGMENTS],
            "drag_rate_x_dt": round(res[200]["lam_dt"], 3),
            "cost_ratio_400_100": round(res[400]["us"] / res[100]["us"], 2)}
+    # cable parked on a drum must cost little: 10 % and 100 % of a 200-element tether deployed
+    out["drum_us_per_step_10pct"] = round(run_deployed(0.1, dt), 1)
+    out["drum_us_per_step_100pct"] = round(run_deployed(1.0, dt), 1)
     if args.check:
         half = run(200, dt / 2)
         out["check_N200_half_step_tension_rel_diff"] = round(abs(half["top"] / res[200]["top"] - 1), 5)
@@ -76,6 +102,8 @@ def main(argv=None):
         print(f"{N:>5} {out['us_per_step'][i]:>10.1f} {out['realtime_factor'][i]:>12.1f} {out['ship_tension_N'][i]:>17.1f}")
     print(f"cost(400) / cost(100) = {out['cost_ratio_400_100']} (target <= 4.5); "
           f"N=200 real-time factor {out['realtime_factor'][3]} (target >= 10)")
+    print(f"drum of 200 elements: {out['drum_us_per_step_10pct']} us/step with 10 % deployed, "
+          f"{out['drum_us_per_step_100pct']} us/step with all of it")
     if args.check:
         print(f"N=200 at dt/2: ship tension differs by {100 * out['check_N200_half_step_tension_rel_diff']:.3f} %")
 
