@@ -187,6 +187,17 @@ def axial_params(EA: float | None, segment_length, inv_mass, timestep: float,
     return AxialParams(S=S, B=B, d=d, stiffness=stiffness, omega=omega, omega_physical=omega_phys)
 
 
+def axial_scalar(EA: float | None, segment_length: float, inv_mass: float, timestep: float,
+                 damping_ratio: float = 1.0) -> tuple[float, float, float]:
+    """``axial_params`` for one element, in scalar arithmetic: (S, B, d)."""
+    omega_cap = AXIAL_OMEGA_DT / timestep
+    K = math.inf if EA is None else EA / max(segment_length, 1e-12)
+    omega_phys2 = K * inv_mass
+    x = min(max(omega_cap**2 / omega_phys2, 1.0 - MAX_IMP), 1.0 - MIN_IMP)
+    S = min(K * x * inv_mass, omega_cap**2)
+    return S, 2.0 * damping_ratio * math.sqrt(S), 1.0 - x
+
+
 # ------------------------------------------------------------------------------ seabed
 
 ROBOT_CONTACT_BIT = 1
