@@ -525,6 +525,8 @@ class Simulation:
             t._eq_snapshot = self._eq_snapshot
         self._closed = False
         self._bad_acc0 = 0
+        self._t_step = 0.0  # s, the time at the end of the step being taken
+        self._worst = ""  # what was furthest out after the last step (see check)
         dispatch.register(self.data, self._passive)
         mujoco.mj_forward(self.model, self.data)
         dispatch.raise_pending(self.data)
@@ -574,12 +576,14 @@ class Simulation:
     def _advance(self, nstep: int) -> None:
         """``nstep`` MuJoCo steps, switching slack tether elements after each."""
         if not self.tethers:
+            self._t_step = self.data.time + self.model.opt.timestep
             mujoco.mj_step(self.model, self.data, nstep)
             return
         tethers = list(self.tethers.values())
         m, d, buf, spec = self.model, self.data, self._buf, _STATE
         snap = self._eq_snapshot
         for _ in range(nstep):
+            self._t_step = d.time + m.opt.timestep
             mujoco.mj_getState(m, d, buf, spec)
             mujoco.mj_step(m, d)
             snap[:] = d.eq_active
@@ -606,15 +610,16 @@ class Simulation:
         spec = mujoco.mjtState.mjSTATE_INTEGRATION
         buf = np.empty(mujoco.mj_stateSize(self.model, spec))
         mujoco.mj_getState(self.model, self.data, buf, spec)
-        return buf, {k: t.payout_state() for k, t in self.tethers.items()}, self._bad_acc0
+        return buf, {k: t.payout_state() for k, t in self.tethers.items()}
 
     def restore_state(self, state) -> None:
         """Return to a ``save_state()``; readouts are valid after ``forward()`` or a step."""
-        buf, payout, bad = state
+        buf, payout = state
         mujoco.mj_setState(self.model, self.data, buf, mujoco.mjtState.mjSTATE_INTEGRATION)
         for k, t in self.tethers.items():
             t.restore_payout(payout[k])
-        self._bad_acc0 = bad
+        w = self.data.warning  # (MuJoCo's warning counts are not part of its state)
+        self._bad_acc0 = w[_BADQPOS].number + w[_BADQVEL].number + w[_BADQACC].number
 
     def run(self, duration: float, callback=None, every: float | None = None) -> None:
         """Simulate ``duration`` seconds; call ``callback(sim)`` every ``every`` seconds."""
@@ -644,7 +649,11 @@ class Simulation:
             for code, q in ((_BADQPOS, "position"), (_BADQVEL, "velocity"), (_BADQACC, "acceleration")):
                 if w[code].number:
                     what.append(f"{q} of {self._dof_name(int(w[code].lastinfo))}")
-            self._diverged(d.time - self.timestep, "MuJoCo found a non-finite or huge " + " and ".join(what))
+            # MuJoCo has reset the state (time too): report the step it went in, and what was
+            # already furthest out in the last good state
+            self._diverged(self._t_step, "MuJoCo found a non-finite or huge " + " and ".join(what)
+                           + (f"; a step earlier {self._worst}" if self._worst else ""))
+        worst = []
         for name, t in self.tethers.items():
             k = t.first
             v = d.qvel[t._dof0 + 3 * k:t._dof0 + 3 * (t.n + 1)]
@@ -653,6 +662,8 @@ class Simulation:
                 i = int(np.argmax(np.abs(v))) // 3
                 self._diverged(d.time, f"{name} node {i} (of {t.N + 1} deployed, 0 at the ship) moves at "
                                        f"{vmax:.3g} m/s")
+            i = int(np.argmax(np.abs(v))) // 3
+            worst.append(f"{name} node {i} (0 at the ship) moved fastest, at {vmax:.3g} m/s")
             if t.spec.EA is not None:
                 # stretch over the nominal element length (the drum element may be short)
                 strain = (d.ten_length[t.tadr + k:t.tadr + t.n] - t._deployed_rest) / t.l0
@@ -660,6 +671,8 @@ class Simulation:
                 if strain[j] > MAX_STRAIN:
                     self._diverged(d.time, f"{name} element {j} (0 at the ship) is stretched by "
                                            f"{100 * strain[j]:.0f} % (EA {t.spec.EA:g} N)")
+                worst.append(f"element {j} was the most stretched, by {100 * strain[j]:.2g} %")
+        self._worst = ", ".join(worst)
 
     def _dof_name(self, dof: int) -> str:
         m = self.model

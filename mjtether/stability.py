@@ -1,10 +1,10 @@
 """Time-step limits of the explicit forces.
 
-MuJoCo integrates some of the tether's dynamics implicitly (the added mass, carried as joint
-armature; the axial mode, which ``builder.axial_params`` keeps at or below 0.5 / dt; the
-seabed contact and the end ``connect`` constraints, whose time constants scale with dt) and
-the rest explicitly. The explicit parts set the largest stable step, and ``max_timestep``
-returns ``SAFETY`` times the smallest of their limits:
+MuJoCo integrates part of the tether's dynamics implicitly (the added mass, carried as joint
+armature; the axial mode, which ``builder.axial_params`` slows to ``AXIAL_OMEGA_DT`` / dt; the
+seabed contact and the end ``connect`` constraints, whose time constants are 2 dt) and the rest
+explicitly. The explicit parts set the largest stable step, and ``max_timestep`` returns
+``SAFETY`` times the smallest of their limits:
 
 * **Drag.** Forces from ``mjcb_passive`` are not in MuJoCo's implicit derivatives, so Morison
   drag is explicit. Linearised about a relative velocity v, the normal drag on an element
@@ -12,11 +12,11 @@ returns ``SAFETY`` times the smallest of their limits:
 
       lambda = rho C_dn d |v| / (mu + C_a rho A)        (1/s; per unit length, so independent of l)
 
-  and forward Euler is stable for lambda dt < 2. (Free of overshoot only below 1: at larger
-  steps a node's velocity flips about its terminal value in the step after a disturbance, and
-  the flip dies out.) The cable held against the current is the binding case; a cable drifting
-  with the flow is not held at a terminal velocity, and quadratic drag then lets it run to
-  lambda dt = 4 and beyond.
+  and forward Euler is stable for lambda dt < 2 (free of overshoot only below 1: above it a
+  node's velocity flips about its terminal value after a disturbance, and the flip dies out).
+  A cable held across the current is the binding case (measured: lambda dt = 1.9-2.7 at the
+  limit). A cable drifting with the flow is held at no terminal velocity, and quadratic drag
+  then lets it run to lambda dt = 4.
 * **Tension and bending.** MuJoCo evaluates the constraint directions at the start of the
   step, so the transverse ("string") modes of a taut chain are explicit, and so is the bending
   force (a passive force). The highest mode of an interior node (mass m = mu + C_a rho A per
@@ -24,41 +24,73 @@ returns ``SAFETY`` times the smallest of their limits:
 
       omega^2 = (4 T / l^2 + 16 EI / l^4) / m,
 
-  and symplectic Euler needs omega dt < 2, i.e. dt < l sqrt(m) / sqrt(T + 4 EI / l^2). (The
-  zig-zag moves no element centre, so drag does not damp it, and the two limits do not
-  combine.) A winch (``BoundTether.set_length``) makes the drum element next to the fairlead
-  as short as (SPLIT - 1) l0 when paying out and MERGE l0 when reeling in: the node at its
-  end then rings faster than any interior node (``drum_omega``), by 1.5 x when paying out and
-  2.2 x when reeling in.
-* **Not limits.** The axial mode (slowed to 0.5 / dt by ``builder``), the seabed contact and
-  the connects (time constants 2 dt) and the added mass (implicit armature) need none; their
-  parameters follow the step. Robots and other bodies in the model have limits of their own
-  that this module does not know: the walker of ``mjtether.walker`` (position servos kp =
-  2e4, soft foot contacts) walks as at fine steps up to 0.0125 s, 7 % fast at 0.025 s, 10 %
-  slow at 0.035 s, and stumbles at 0.045 s (alone, 10 s at 0.3 m/s); take the smaller step.
+  and symplectic Euler needs omega dt < 2, i.e. dt < l sqrt(m) / sqrt(T + 4 EI / l^2)
+  (measured: the largest stable step is 1.04-1.23 x this). The zig-zag moves no element
+  centre, so drag does not damp it, and the drag and string limits do not combine. A winch
+  (``BoundTether.set_length``) makes the drum element next to the fairlead as short as
+  (SPLIT - 1) l0 when paying out and MERGE l0 when reeling in: the node at its end then rings
+  faster than any interior node (``drum_omega``), 1.5 x when paying out, 2.2 x when reeling in
+  (measured: 1.04-1.35 x and 1.24-1.4 x the drum limit; a fast reel-in passes the shortest
+  drum element in a few steps).
+* **Not limits.** The axial mode, the seabed contact, the connects and the added mass: their
+  parameters follow the step. Robots and other bodies have limits of their own: the walker
+  of ``mjtether.walker`` (position servos of kp = 2e4 on 2 kg m^2 of armature, soft foot
+  contacts), alone and walking at 0.3 m/s for 10 s, covers the distance it covers at 5 ms to
+  1 % at 0.0125 s, 6-8 % fast at 0.02-0.025 s, 9 % short at 0.035 s, and stumbles at 0.045 s;
+  ``max_timestep(walker=True)`` caps the step at ``WALKER_MAX_TIMESTEP``.
 
-``tension`` should be the largest tension the run will see. Without it, ``expected_tension``
-estimates it as the cable's own wet weight plus the drag of the current on its length: right
-for a cable hanging from a ship to a robot or the seabed, too low for a taut mooring, a clump
-weight or a towed body, where it must be given (e.g. ``quasistatic.steady_state(...)
-.top_tension``).
+``tension`` should be the largest tension the run will see; without it ``expected_tension``
+estimates it (the cable's wet weight, or half the drag of the current on it if that is more).
+The estimate may be 1.6 x too low and the answer still be stable; a taut mooring, a clump
+weight or a towed body needs ``tension`` (e.g. ``quasistatic.steady_state(...).top_tension``).
 
-Measured (MuJoCo 4.0.0, implicitfast, this module's ``SAFETY`` = 0.8). Largest stable step by
-bisection to 5 %; stable means no ``SimulationDiverged`` and, over the second half of the run,
-the ship-end tension within 25 % of its steady value (static and current cases, started from
-the steady state with 5 cm/s random node velocities, 40 s or 3000 steps, whichever is longer),
-within 10 % of the steady state of the new length with no sample-to-sample jump over 50 %
-(payout, 60 s), or the walk as at 5 ms (walking end, 10 s). d: diameter, rho_c: cable density,
-U: current; fixed-fixed cables span 100 m between points 80 m apart at 50 deg, or 80 m apart
-level and across the current ("cross-flow"). The ratio is answer / measured; the answer is
-``max_timestep(tether, water, payout=...)`` with ``tension`` left out unless a tension is
-listed as given.
+Measured (MuJoCo 4.0.0, implicitfast; commit ac67e04 with the working tree of 2026-11-23): the
+largest stable step, by bisection to 5 % from the answer. Stable: no ``SimulationDiverged`` and
+over the second half of the run the ship-end tension within 25 % of the steady state (fixed
+ends: from the steady state with 5 cm/s random node velocities, 40 s or 3000 steps) or its
+spread within 50 % (free end, 30 s); for payout, 10 % from the steady state of the new length
+at the end and no step-to-step change over 50 %; for scenarios, the tension's half-second means
+within 25 % of a 5 ms run (walker: 10 %, and the walk within 10 %). The answer is
+``max_timestep(tether, water)`` with ``payout`` set for a winch and nothing else (no tension).
+Fixed ends: 100 m of cable, ends 80 m apart at 50 deg below the horizontal (no current, or
+the current in their plane) or level and across the current ("across"); rho_c: cable density
+(kg/m^3), d: diameter, N: elements; EA 5 MN unless stated.
 
-=====================================================  =========  =========  ======
-case                                                   measured   answer     ratio
-=====================================================  =========  =========  ======
-(to be filled)
-=====================================================  =========  =========  ======
+=================================================================  ========  ========  =====
+case                                                               measured  answer    ratio
+=================================================================  ========  ========  =====
+still water, d 30 mm, rho_c 2500, N 20 (T 862 N, estimate 1023 N)  0.304     0.197     0.65
+... N 100                                                          0.0558    0.0395    0.71
+... N 40, inextensible                                             0.146     0.0987    0.68
+... EI 1000 N m^2, N 50                                            0.0760    0.0562    0.74
+still water, steel (rho_c 7800), 97 m apart, N 40 (T 5785 N)       0.0867    0.0729    0.84
+... tension=5785 given                                             0.0889    0.0657    0.74
+still water, rho_c 1100, N 40 (T 44 N)                             0.502     0.340     0.68
+across 2 m/s, d 10 mm, rho_c 1030, inextensible, N 20              0.0169    0.0105    0.62
+... N 100                                                          0.0130    0.00916   0.71
+... across 5 m/s, EA 0.1 MN                                        0.00620   0.00420   0.68
+... in-plane 2 m/s, N 50                                           0.0155    0.0105    0.68
+across 1 m/s, d 30 mm, rho_c 2500, N 40                            0.140     0.0987    0.71
+free end streaming in 5 m/s, d 10 mm, rho_c 1030, N 20 (*)         0.0104    0.00420   0.40
+... N 100 (*)                                                      0.0104    0.00367   0.35
+examples/static_anchor_current.toml                                0.125     0.0926    0.74
+walker on 80 m of 5 mm line across 1 m/s (tests/test_stability)    0.0160    0.0129    0.81
+examples/default_walker.toml: the walker's own limit               0.0276    0.0414    1.5
+... ``walker=True``                                                0.0276    0.0200    0.72
+payout 100 -> 130 m at 1 m/s (tests/test_winch), payout="out"      0.0991    0.0732    0.74
+payout 100 -> 110 m at 0.5 m/s, still water, d 30 mm, N 40         0.113     0.0643    0.57
+... in 1 m/s, N 20                                                 0.207     0.108     0.52
+reel-in 100 -> 90 m at 0.5 m/s, still water, N 40, payout=True     0.0741    0.0440    0.59
+... at 0.1 m/s to 95 m                                             0.0650    0.0440    0.68
+... in 1 m/s, N 20, at 0.5 m/s (*)                                 0.184     0.0881    0.48
+... at 0.1 m/s to 95 m                                             0.162     0.0881    0.55
+examples/anchor_payout.toml, payout="out"                          0.068     0.0406    0.60
+=================================================================  ========  ========  =====
+
+(*) Not within 2x: a streaming cable runs to lambda dt = 4 (see Drag); a fast reel-in on long
+elements passes the 0.1 l0 drum element in a few steps. The scenario walker is limited by
+itself (nothing diverges at the answer, but the walker walks 0.5 m backwards): pass
+``walker=True``.
 """
 
 from __future__ import annotations
@@ -72,9 +104,10 @@ from .tether import TetherSpec
 from .water import WaterColumn
 
 SAFETY = 0.8
-"""Fraction of the smallest theoretical limit that ``max_timestep`` returns. The limits are
-accurate to -0 / +35 % (measured: the largest stable step is 1.0-1.15 x the string/bending
-limit, 1.04-1.4 x the drum-element limit, 1.0-1.4 x the drag limit 2 / lambda held in a current)."""
+"""Fraction of the smallest limit that ``max_timestep`` returns. Measured, the largest stable
+step is 1.04-1.23 x the string/bending limit at the true tension, 1.04-1.4 x the drum-element
+limit and 0.95-1.37 x the drag limit 2 / lambda of a cable held across the current (module
+docstring): 0.8 leaves 16 % or more, and room for a tension estimate 1.6 x too low."""
 
 WALKER_MAX_TIMESTEP = 0.02
 """Largest step (s) for the walker of ``mjtether.walker`` (``max_timestep(walker=True)``): alone

@@ -44,6 +44,24 @@ def test_analytic_catenary_reproduces_moorpy(cb):
     assert c.anchor_tension[0] == pytest.approx(fa_h, rel=1e-5, abs=1e-5 * fb_h)
 
 
+@pytest.mark.parametrize("cb", [0.0, 0.1])
+def test_steady_state_matches_moorpy(cb):
+    """The start a run takes: ``steady_state`` (the lumped 200-element line, shooting with seabed
+    contact and friction) against MoorPy's numbers, within 1 % (the issue's tolerance; the
+    lumped line differs from the continuum by O(1/N^2)): fairlead H and V, the anchor's
+    horizontal force (friction takes 16 % of H along the laid part with cb = 0.1), laid length."""
+    fa_h, fb_h, fb_v, laid = MOORPY[cb]
+    mu = W / G + RHO * math.pi * D * D / 4
+    tether = mt.TetherSpec(length=LENGTH, segments=200, diameter=D, mass_per_length=mu, EA=EA)
+    anchor = np.array([0.0, 0.0, -DEPTH])
+    ss = steady_state(tether, mt.WaterColumn(depth=DEPTH), anchor + [SPAN, 0.0, HEIGHT], anchor,
+                      seabed=True, seabed_friction=cb)
+    assert -ss.top_force[0] == pytest.approx(fb_h, rel=0.01)
+    assert -ss.top_force[2] == pytest.approx(fb_v, rel=0.01)
+    assert abs(ss.bottom_force[0]) == pytest.approx(fa_h, rel=0.01)
+    assert ss.laid_length == pytest.approx(laid, rel=0.01)
+
+
 def _run(cb: float, seconds: float = 10.0, average_from: float = 5.0):
     """The MoorPy line as a 50-element MuJoCo tether on a seabed (friction ``cb``), started from
     the lumped steady state; returns the fairlead and anchor forces averaged over
