@@ -239,7 +239,7 @@ class BoundTether:
             m.eq_solimp[self.eq0 + j, :2] = d
             self._lead[j] = B / S
             self._K[j] = S / ((1.0 - d) * inv)
-        self._set_rest(k, k + 1)
+        m.eq_data[self.eq0 + k, 0] = (s + self._lead[k] * self.payout_rate - m.tendon_length0[self.tadr + k])
 
     def _set_rest(self, lo: int, hi: int) -> None:
         """The equality of element j holds its length at rest_j + lead_j * (payout rate if j is
@@ -526,7 +526,7 @@ class Simulation:
         self._closed = False
         self._bad_acc0 = 0
         self._t_step = 0.0  # s, the time at the end of the step being taken
-        self._worst = ""  # what was furthest out after the last step (see check)
+        self._worst = []  # what was furthest out after the last step (see check)
         dispatch.register(self.data, self._passive)
         mujoco.mj_forward(self.model, self.data)
         dispatch.raise_pending(self.data)
@@ -652,18 +652,16 @@ class Simulation:
             # MuJoCo has reset the state (time too): report the step it went in, and what was
             # already furthest out in the last good state
             self._diverged(self._t_step, "MuJoCo found a non-finite or huge " + " and ".join(what)
-                           + (f"; a step earlier {self._worst}" if self._worst else ""))
+                           + (f"; a step earlier {self._furthest()}" if self._worst else ""))
         worst = []
         for name, t in self.tethers.items():
             k = t.first
-            v = d.qvel[t._dof0 + 3 * k:t._dof0 + 3 * (t.n + 1)]
+            v = d.qvel[t._dof0 + 3 * k:t._dof0 + 3 * (t.n + 1)].copy()
             vmax = float(np.abs(v).max())
             if vmax > MAX_NODE_SPEED:
                 i = int(np.argmax(np.abs(v))) // 3
                 self._diverged(d.time, f"{name} node {i} (of {t.N + 1} deployed, 0 at the ship) moves at "
                                        f"{vmax:.3g} m/s")
-            i = int(np.argmax(np.abs(v))) // 3
-            worst.append(f"{name} node {i} (0 at the ship) moved fastest, at {vmax:.3g} m/s")
             if t.spec.EA is not None:
                 # stretch over the nominal element length (the drum element may be short)
                 strain = (d.ten_length[t.tadr + k:t.tadr + t.n] - t._deployed_rest) / t.l0
@@ -671,8 +669,22 @@ class Simulation:
                 if strain[j] > MAX_STRAIN:
                     self._diverged(d.time, f"{name} element {j} (0 at the ship) is stretched by "
                                            f"{100 * strain[j]:.0f} % (EA {t.spec.EA:g} N)")
-                worst.append(f"element {j} was the most stretched, by {100 * strain[j]:.2g} %")
-        self._worst = ", ".join(worst)
+                worst.append((name, v, strain))
+            else:
+                worst.append((name, v, None))
+        self._worst = worst  # formatted only if the next step fails (see _furthest)
+
+    def _furthest(self) -> str:
+        """What was furthest out after the last good step: each tether's fastest node and most
+        stretched element."""
+        out = []
+        for name, v, strain in self._worst:
+            i = int(np.argmax(np.abs(v))) // 3
+            out.append(f"{name} node {i} (0 at the ship) moved fastest, at {np.abs(v).max():.3g} m/s")
+            if strain is not None:
+                j = int(np.argmax(strain))
+                out.append(f"element {j} was the most stretched, by {100 * strain[j]:.2g} %")
+        return ", ".join(out)
 
     def _dof_name(self, dof: int) -> str:
         m = self.model
