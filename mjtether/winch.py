@@ -25,8 +25,9 @@ deployed length integrates it and stays within [min_length, max_length]. Modes:
   ``max_rate``; a cable that slackens is not reeled back.
 
 Every rate is limited to |rate| <= max_rate, and changes at most at ``max_accel`` (m/s^2): a
-real drum has inertia and a drive of finite power, and a step in payout rate would jerk the whole
-cable (with every element taking L / N, see ``BoundTether.set_length``). Units SI.
+real drum has inertia and a drive of finite power, and a step in payout rate jerks the cable at
+the fairlead (the length changes at the drum, see ``BoundTether.set_length``). A length of 0 is
+allowed (nothing deployed: a free drum pays out from there). Units SI.
 """
 
 from __future__ import annotations

@@ -68,3 +68,17 @@ def test_rigid_body_drag_per_body_axis():
     # current along world y = body x: drag 1/2 rho Cx Sx u^2 along world y
     np.testing.assert_allclose(f, [0, 0.5 * RHO * 1.0 * 3.0, RHO * 9.81 * 2.0], rtol=1e-12)
     np.testing.assert_allclose(tq, 0)
+
+
+def test_first_share_moves_the_first_elements_load_only():
+    """``first_share`` (the drum element's lumping) gives node 0 that part of element 0's load
+    (drag and buoyancy) and node 1 the rest: the total is unchanged to 1e-12 and the other
+    nodes' loads are the equal-share ones."""
+    x = np.array([[0, 0, -5.0], [1.5, 0, -6.0], [3, 0, -8.0], [4, 1, -9.0]])
+    v = np.array([[0, 0, 0], [0.2, 0, -0.1], [0.1, 0.3, 0], [0, 0, 0.2]])
+    half = loads(x, v, [0.5, 0.2, 0])
+    share = loads(x, v, [0.5, 0.2, 0], first_share=0.1)
+    np.testing.assert_allclose(share.sum(axis=0), half.sum(axis=0), rtol=1e-12)
+    np.testing.assert_allclose(share[2:], half[2:], rtol=1e-12)
+    element0 = half[0] * 2  # node 0 holds half of element 0's load (it has no other element)
+    np.testing.assert_allclose(share[0], 0.1 * element0, rtol=1e-12)
