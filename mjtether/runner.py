@@ -493,7 +493,8 @@ class ScenarioRun:
         if not self.walker:
             return 0.0
         d = self.sim.data
-        x = self.bt.nodes(d)
+        bt = self.bt
+        x = d.flexvert_xpos[bt.vertadr + bt.n - 1:bt.vertadr + bt.n + 1]  # the last two nodes
         e = x[-1, :2] - x[-2, :2]
         if np.hypot(*e) < 1e-3 * self.bt.l0:
             e = x[-1, :2] - d.mocap_pos[self.ship_mocap][:2]
@@ -504,7 +505,7 @@ class ScenarioRun:
     def step(self) -> None:
         sim, dt = self.sim, self.sim.timestep
         t = sim.time
-        tow = self.robot_state()[0]
+        tow = self.sim.data.site_xpos[self.tow_site] if self.walker else self.robot_position
         if self.walker:
             self._drive(dt, *self.command(t))
         fair = self.ship.advance(dt, t, tow)
