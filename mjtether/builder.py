@@ -41,7 +41,7 @@ omega_ax = sqrt(K A); d -> 1 slows it. We keep the physical frequency when the t
 resolves it (omega_ax dt <= AXIAL_OMEGA_DT = 0.4) and otherwise slow the axial mode to 0.4 / dt,
 which keeps the static stretch T l / EA exact and the step stable. Where even d = 0.9999
 (MuJoCo's largest impedance) cannot slow it enough, the element is made as stiff as that step
-allows and no stiffer: its effective EA is lower than asked (``effective_EA``); ``EA=None``
+allows and no stiffer: its effective EA is lower than asked (``BoundTether.effective_EA``); ``EA=None``
 (inextensible) always takes that limit (strain < 1e-3 at working tension).
 
 **Payout at the drum.** A compiled model cannot grow, so ``add_tether`` allocates nodes for

@@ -431,6 +431,13 @@ class BoundTether:
         return self.l0
 
     @property
+    def effective_EA(self) -> np.ndarray:
+        """Axial stiffness (N) each deployed element has in statics: EA, or less where the time
+        step cannot resolve it (see ``builder``; always so for an inextensible tether)."""
+        k = self.first
+        return self._K[k:] * self._rest[k:]
+
+    @property
     def deployed_length(self) -> float:
         """Unstretched deployed length (m)."""
         return self.drum_rest + (self.n - self.first - 1) * self.l0
