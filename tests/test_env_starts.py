@@ -10,15 +10,16 @@ import mjtether.envs  # noqa: F401 - registers the environments
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("env_id", ["mjtether/TetherWinch-v0", "mjtether/TetheredWalker-v0"])
-def test_randomised_resets_start_upright(env_id):
-    """100 randomised resets (seeds 0-99) of each environment: at every step (0.1 s) of the
-    first 5 s, with the winch stopped, the walker is within 2 deg of upright and of its commanded
-    heading (the issue's requirement; measured at most 0.5 deg and 0.9 deg)."""
+@pytest.mark.parametrize("env_id, resets", [("mjtether/TetherWinch-v0", 100), ("mjtether/TetheredWalker-v0", 30)])
+def test_randomised_resets_start_upright(env_id, resets):
+    """Randomised resets (the issue's 100 of TetherWinch-v0, seeds 0-99, and 30 more of
+    TetheredWalker-v0, which builds the same start around a different goal): at every step
+    (0.1 s) of the first 5 s, with the winch stopped, the walker is within 2 deg of upright and
+    of its commanded heading (the issue's requirement; measured at most 0.5 deg and 0.9 deg)."""
     env = gym.make(env_id).unwrapped
     worst = []
     try:
-        for seed in range(100):
+        for seed in range(resets):
             env.reset(seed=seed)
             errors = [pose_errors(env.runner)]
             for _ in range(50):
@@ -33,12 +34,12 @@ def test_randomised_resets_start_upright(env_id):
 
 @pytest.mark.slow
 def test_full_payout_episodes_end_only_on_real_tension():
-    """20 TetherWinch-v0 episodes (seeds 0-19) paying out at the full rate all the way: the cable
+    """20 TetherWinch-v0 episodes (seeds 0-19) of 30 s paying out at the full rate: the cable
     lands on the seabed as it goes, and no real tension comes near the 3 kN rated load (the
     ship-end tension peaks at 1.7 kN in the first three seeds). Before tension-only elements,
     compression spikes at touchdown, reported as tension, ended 65 % of such episodes at the
     rated load; now none ends there, and every element tension is finite and >= 0 at every step."""
-    env = gym.make("mjtether/TetherWinch-v0")
+    env = gym.make("mjtether/TetherWinch-v0", max_episode_steps=300)
     broke, peak = 0, 0.0
     try:
         for seed in range(20):
