@@ -143,10 +143,7 @@ class TetherEnv(gym.Env):
 
     def length_on_seabed(self) -> float:
         """Tether length lying on the seabed (m): elements with both nodes within a diameter."""
-        r = self.runner
-        x = r.bt.nodes(r.sim.data)
-        on = x[:, 2] < r.seabed_z(x[:, 0], x[:, 1]) + self.diameter
-        return float(r.bt.rest_lengths[r.bt.first:][on[1:] & on[:-1]].sum())
+        return self.runner.length_on_seabed()
 
     def currents(self) -> np.ndarray:
         """Current (x, y) at the observed depths, flattened (m/s)."""

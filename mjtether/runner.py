@@ -522,9 +522,7 @@ class ScenarioRun:
         fs = self.bt.end_force(d, "start")
         fe = self.bt.end_force(d, "end")
         x = self.bt.nodes(d)
-        diam = self.tether_spec.diameter
-        on = x[:, 2] < self.seabed_z(x[:, 0], x[:, 1]) + diam
-        on_bottom = float(self.bt.rest_lengths[self.bt.first:][on[1:] & on[:-1]].sum())
+        on_bottom = self.length_on_seabed(x)
         ship = d.mocap_pos[self.ship_mocap]
         tow, yaw, speed, R = self.robot_state()
         if self.walker:  # Khan et al. Eq. 38 about the walker's centre of mass
@@ -536,6 +534,13 @@ class ScenarioRun:
                 self.bt.deployed_length, self.winch.current_rate, ship[0], ship[1], *tow, math.degrees(yaw),
                 math.degrees(roll), math.degrees(pitch), speed, float(x[:, 2].min()), on_bottom,
                 self.bt.slack_count(d)]
+
+    def length_on_seabed(self, x: np.ndarray | None = None) -> float:
+        """Unstretched tether length (m) lying on the seabed: the deployed elements with both
+        nodes within one diameter of it (``x``: the deployed nodes, if already read)."""
+        x = self.bt.nodes(self.sim.data) if x is None else x
+        on = x[:, 2] < self.seabed_z(x[:, 0], x[:, 1]) + self.tether_spec.diameter
+        return float(self.bt.rest_lengths[self.bt.first:][on[1:] & on[:-1]].sum())
 
     def element_record(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(every node (n+1, 3) m, element tension (n,) N, element length (n,) m), numbered

@@ -161,30 +161,29 @@ class BoundTether:
         z = x[:, 2]
         zc = np.minimum(0.5 * (z[1:] + z[:-1]), 0.0)
         self._added_per_m = self._ca_A * np.asarray(self.water.rho(zc), float)  # kg/m, per element
-        self._update(0, n)
+        self._update()
         # elements about as long as their rest length or longer start taut, clearly slack ones
         # slack (an element started taut that pushes is switched off at the first step)
         length = np.linalg.norm(np.diff(x, axis=0), axis=1)
         d.eq_active[self._eqs] = (np.arange(n) >= k) & (length >= self._rest * (1 - START_SLACK))
 
-    def _update(self, j0: int, j1: int) -> None:
-        """Refresh elements j0..j1-1 and their nodes j0..j1 after a change of rest lengths."""
+    def _update(self) -> None:
+        """Masses, armature and element solver parameters of every node and element for the
+        current rest lengths (``_update_drum`` does an ordinary payout step's share of this)."""
         m, k, n, l0 = self.model, self.first, self.n, self.l0
         rest = self.rest_lengths
-        i0, i1 = max(j0, 0), min(j1, n) + 1  # nodes
-        lo, hi = max(i0 - 1, 0), min(i1, n)  # elements touching those nodes
-        r_left = np.where(np.arange(i0, i1) > 0, rest[np.maximum(np.arange(i0, i1) - 1, 0)], 0.0)
-        r_right = np.where(np.arange(i0, i1) < n, rest[np.minimum(np.arange(i0, i1), n - 1)], 0.0)
+        idx = np.arange(n + 1)
+        r_left = np.r_[0.0, rest]  # the element on each side of each node (0 past the ends)
+        r_right = np.r_[rest, 0.0]
         ap = self._added_per_m
-        a_left = np.where(np.arange(i0, i1) > 0, ap[np.maximum(np.arange(i0, i1) - 1, 0)], 0.0)
-        a_right = np.where(np.arange(i0, i1) < n, ap[np.minimum(np.arange(i0, i1), n - 1)], 0.0)
+        a_left = np.r_[0.0, ap]
+        a_right = np.r_[ap, 0.0]
         # the drum element's part at the fairlead is a constant FAIRLEAD_SHARE l0 (at most half of
         # it): everything paid out adds to the first free node, so the free cable's mass grows
         # continuously and nothing jumps when a node is released or taken back
-        idx = np.arange(i0, i1)
         c = self.fairlead_share
-        left = np.where(idx == k + 1, 1.0 - c / np.maximum(rest[k], 1e-300), 0.5)
-        right = np.where(idx == k, c / np.maximum(rest[k], 1e-300), 0.5)
+        left = np.where(idx == k + 1, 1.0 - c / max(rest[k], 1e-300), 0.5)
+        right = np.where(idx == k, c / max(rest[k], 1e-300), 0.5)
         mass = self._mu * (left * r_left + right * r_right)
         added = left * a_left * r_left + right * a_right * r_right
         i_ref = self._i_ref = (self._mu + np.median(ap)) * l0  # an interior node's inertia
@@ -194,27 +193,23 @@ class BoundTether:
         arm = np.where(parked, i_ref - self._mu * l0, added)
         arm = np.where(end & ~parked, np.maximum(i_ref - mass, added), arm)
         arm = np.maximum(arm, 1e-9 * i_ref)
-        m.body_mass[self._bids[i0:i1]] = mass
-        m.dof_armature[self._dof0 + 3 * i0:self._dof0 + 3 * i1] = np.repeat(arm, 3)
-        self._inertia = getattr(self, "_inertia", np.zeros(n + 1))
-        self._inertia[i0:i1] = mass + arm
-        # elements lo..hi-1: inverse mass along the element, solver parameters, rest lengths
-        js = np.arange(lo, hi)
-        inv = 1.0 / self._inertia[js] + 1.0 / self._inertia[js + 1]
-        p = axial_params(self.spec.EA, np.where(js >= k, rest[js], l0), inv, m.opt.timestep,
+        m.body_mass[self._bids] = mass
+        m.dof_armature[self._dof0:self._dof0 + 3 * (n + 1)] = np.repeat(arm, 3)
+        self._inertia = mass + arm
+        # elements: inverse mass along the element, solver parameters, rest lengths
+        js = np.arange(n)
+        inv = 1.0 / self._inertia[:-1] + 1.0 / self._inertia[1:]
+        p = axial_params(self.spec.EA, np.where(js >= k, rest, l0), inv, m.opt.timestep,
                          self.spec.axial_damping_ratio)
-        m.tendon_invweight0[self.tadr + js] = inv
-        m.eq_solref[self.eq0 + js] = p.solref
-        m.eq_solimp[self.eq0 + js] = p.solimp
-        self._lead = np.zeros(n) if lo == 0 and hi == n else self._lead
-        self._lead[lo:hi] = p.B / p.S  # s: see _set_rest
-        self._K = np.zeros(n) if lo == 0 and hi == n else self._K
-        self._K[lo:hi] = p.stiffness  # N/m, static stiffness of each element
+        m.tendon_invweight0[self._ten] = inv
+        m.eq_solref[self._eqs] = p.solref
+        m.eq_solimp[self._eqs] = p.solimp
+        self._lead = p.B / p.S  # s: see _set_rest
+        self._K = np.array(p.stiffness, dtype=float)  # N/m, static stiffness of each element
         self._rest = rest
         self._deployed_rest = rest[k:]
-        self._set_rest(lo, hi)
-        if (lo, hi) == (0, n):
-            self.axial = p
+        self._set_rest(0, n)
+        self.axial = p
 
     def _update_drum(self) -> None:
         """``_update`` for an ordinary payout step (only the drum element's rest length changed):
