@@ -9,13 +9,15 @@ Frames: world, z up, surface z = 0, the ship's fairlead at the origin. Units SI.
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass, fields
 
 import gymnasium as gym
 import mujoco
 import numpy as np
 
+from mjtether.config import ConfigError, Section, param
 from mjtether.runner import RunFailed, ScenarioRun
-from mjtether.scenario import ScenarioError, load_scenario
+from mjtether.scenario import load_scenario
 from mjtether.units import KNOT
 
 CURRENT_DEPTHS = (0.05, 0.25, 0.75)
@@ -24,60 +26,96 @@ CURRENT_DEPTHS = (0.05, 0.25, 0.75)
 DEFAULT_CAMERA_CONFIG = {"camera": "track"}
 
 
-def _check(name: str, value, lo: float, hi: float, unit: str = "") -> float:
-    v = float(value)
-    if not (math.isfinite(v) and lo <= v <= hi):
-        raise ValueError(f"{name} must be in [{lo:g}, {hi:g}]{' ' + unit if unit else ''}, got {value!r}")
-    return v
+@dataclass(frozen=True)
+class TetherEnvConfig(Section):
+    """The keyword arguments both environments take (SI units)."""
+
+    depth: float = param(100.0, 5.0, 2000.0, "m", "depth of the seabed")
+    tether_length: float = param(130.0, 1.0, 20000.0, "m", "deployed tether length at the start (spread by "
+                                 "reset_noise_scale)")
+    segments: int = param(30, 4, 400, "", "tether elements over tether_length")
+    diameter: float = param(0.025, 1e-3, 0.5, "m", "tether diameter")
+    cable_density: float = param(2500.0, 500.0, 20000.0, "kg/m^3", "tether bulk density")
+    EA: float = param(5.0e6, 1e3, 1e12, "N", "tether axial stiffness")
+    min_length: float | None = param(None, 0.0, 20000.0, "m", "shortest deployed length (None: depth + 5 m)",
+                                     kind="float")
+    max_length: float = param(300.0, 1.0, 20000.0, "m", "longest deployed length")
+    max_rate: float = param(1.0, 0.01, 5.0, "m/s", "fastest payout or reel-in")
+    rated_load: float = param(3000.0, 10.0, 1e8, "N", "rated load; the episode ends above it")
+    current_max_kn: float = param(2.0, 0.0, 6.0, "kn", "largest surface current drawn")
+    start_distance: float = param(40.0, 1.0, 10000.0, "m", "horizontal distance of the walker from the ship")
+    timestep: float = param(0.01, 1e-4, 0.02, "s", "MuJoCo time step")
+    frame_skip: int = param(10, 1, 1000, "", "MuJoCo steps per environment step")
+    reset_noise_scale: float = param(0.05, 0.0, 0.5, "", "relative spread of the starting length")
+    width: int = param(480, 16, 4096, "px", "rendered frame width")
+    height: int = param(360, 16, 4096, "px", "rendered frame height")
+
+    def _check(self):
+        lo = self.depth + 5.0 if self.min_length is None else self.min_length
+        if lo > self.tether_length:
+            self._bad("min_length", f"{lo:g} m must be <= tether_length ({self.tether_length:g} m)"
+                      + (" (the default is depth + 5 m)" if self.min_length is None else ""))
+        if self.max_length < self.tether_length:
+            self._bad("max_length", f"must be >= tether_length ({self.tether_length:g} m)")
+        shortest = self.tether_length * (1.0 - self.reset_noise_scale)
+        reach = math.hypot(self.start_distance, self.depth)
+        if reach >= shortest:
+            self._bad("start_distance", f"the walker {reach:.0f} m from the fairlead (start_distance, depth) is out "
+                      f"of reach of the shortest starting tether, {shortest:.0f} m (tether_length x (1 - "
+                      "reset_noise_scale))")
+
+
+def kwargs_table(cls) -> str:
+    """The keyword-argument table of an environment's docstring, from its ``Config``."""
+    rows = [(f.name, repr(f.default), f.metadata["param"].allowed(), f.metadata["param"].doc) for f in fields(cls)]
+    w = [max(len(r[k]) for r in rows + [("keyword", "default", "allowed", "meaning")]) for k in range(4)]
+    line = "  ".join("=" * n for n in w)
+    head = "  ".join(h.ljust(n) for h, n in zip(("keyword", "default", "allowed", "meaning"), w))
+    body = ["  ".join(c.ljust(n) for c, n in zip(r, w)).rstrip() for r in rows]
+    return "\n".join(["", "Keyword arguments (checked in the constructor):", "", line, head, line, *body, line, ""])
+
+
+def _finite_action(action, n: int) -> np.ndarray:
+    """The action as a float vector of ``n``, or a ValueError that names it."""
+    try:
+        a = np.asarray(action, dtype=float).reshape(-1)
+    except (TypeError, ValueError):
+        raise ValueError(f"action must be {n} numbers in [-1, 1], got {action!r}") from None
+    if a.shape != (n,) or not np.all(np.isfinite(a)):
+        raise ValueError(f"action must be {n} finite numbers in [-1, 1], got {action!r}")
+    return np.clip(a, -1.0, 1.0)
 
 
 class TetherEnv(gym.Env):
-    """Base class; subclasses define ``_robot_section``, the spaces, ``_get_obs`` and the reward.
+    """Base class; subclasses define ``Config`` (a ``TetherEnvConfig`` with their own keys),
+    ``_robot_section``, the spaces, ``_get_obs`` and the reward.
 
-    Keyword arguments (SI units): ``depth`` of the seabed; the tether's starting
-    ``tether_length``, ``segments``, ``diameter``, ``cable_density`` and ``EA``; the winch's
-    ``min_length`` (default depth + 5 m), ``max_length`` and ``max_rate``; the tether's
-    ``rated_load`` (N, the episode ends above it); ``current_max_kn`` (largest surface current
-    drawn); ``start_distance`` of the walker from the ship; MuJoCo's ``timestep`` and
-    ``frame_skip`` steps per environment step; ``reset_noise_scale`` (relative spread of the
-    starting length); ``render_mode`` (None or "rgb_array"), ``width``, ``height`` and
-    ``default_camera_config`` ({"camera": "track" | "side" | "top" | "walker",
-    "tension_scale": N}, see ``mjtether.render``).
+    Keyword arguments: those of ``Config`` (see its table in the subclass docstring, checked in
+    the constructor: a bad one raises ``mjtether.config.ConfigError``, a ValueError, naming it),
+    plus ``render_mode`` (None or "rgb_array") and ``default_camera_config`` ({"camera":
+    "track" | "side" | "top" | "walker", "tension_scale": N}, see ``mjtether.render``).
     """
 
     metadata = {"render_modes": ["rgb_array"], "render_fps": 10}
+    Config = TetherEnvConfig
 
-    def __init__(self, *, depth: float = 100.0, tether_length: float = 130.0, segments: int = 30,
-                 diameter: float = 0.025, cable_density: float = 2500.0, EA: float = 5.0e6,
-                 min_length: float | None = None, max_length: float = 300.0, max_rate: float = 1.0,
-                 rated_load: float = 3000.0, current_max_kn: float = 2.0, start_distance: float = 40.0,
-                 timestep: float = 0.01, frame_skip: int = 10, reset_noise_scale: float = 0.05,
-                 render_mode: str | None = None, width: int = 480, height: int = 360,
-                 default_camera_config: dict | None = None):
-        self.depth = _check("depth", depth, 5.0, 2000.0, "m")
-        self.tether_length = _check("tether_length", tether_length, 1.0, 20000.0, "m")
-        if not (isinstance(segments, int) and 2 <= segments <= 400):
-            raise ValueError(f"segments must be an integer in [2, 400], got {segments!r}")
-        self.segments = segments
-        self.diameter = _check("diameter", diameter, 1e-3, 0.5, "m")
-        self.cable_density = _check("cable_density", cable_density, 500.0, 20000.0, "kg/m^3")
-        self.EA = _check("EA", EA, 1e3, 1e12, "N")
-        self.min_length = _check("min_length", self.depth + 5.0 if min_length is None else min_length, 0.0,
-                                 self.tether_length, "m")
-        self.max_length = _check("max_length", max_length, self.tether_length, 20000.0, "m")
-        self.max_rate = _check("max_rate", max_rate, 0.01, 5.0, "m/s")
-        self.rated_load = _check("rated_load", rated_load, 10.0, 1e8, "N")
-        self.current_max = KNOT * _check("current_max_kn", current_max_kn, 0.0, 6.0, "kn")
-        self.start_distance = _check("start_distance", start_distance, 1.0, 10000.0, "m")
-        self.timestep = _check("timestep", timestep, 1e-4, 0.02, "s")
-        if not (isinstance(frame_skip, int) and 1 <= frame_skip <= 1000):
-            raise ValueError(f"frame_skip must be an integer in [1, 1000], got {frame_skip!r}")
-        self.frame_skip = frame_skip
-        self.reset_noise_scale = _check("reset_noise_scale", reset_noise_scale, 0.0, 0.5)
+    def __init__(self, *, render_mode: str | None = None, default_camera_config: dict | None = None, **kwargs):
+        unknown = sorted(set(kwargs) - {f.name for f in fields(self.Config)})
+        if unknown:
+            raise ConfigError(f"{type(self).__name__}: unknown keyword argument {unknown[0]!r}; allowed: "
+                              f"{', '.join(f.name for f in fields(self.Config))}, render_mode, default_camera_config",
+                              unknown[0])
+        try:
+            self.config = cfg = self.Config(**kwargs)
+        except ConfigError as exc:
+            raise ConfigError(f"{type(self).__name__}: {exc}", exc.key) from None
+        for f in fields(cfg):
+            setattr(self, f.name, getattr(cfg, f.name))
+        self.min_length = self.depth + 5.0 if cfg.min_length is None else cfg.min_length
+        self.current_max = KNOT * cfg.current_max_kn
         if render_mode is not None and render_mode not in self.metadata["render_modes"]:
             raise ValueError(f"render_mode must be None or one of {self.metadata['render_modes']}, got {render_mode!r}")
         self.render_mode = render_mode
-        self.width, self.height = width, height
         self.camera_config = dict(DEFAULT_CAMERA_CONFIG, **(default_camera_config or {}))
         self.metadata = dict(self.metadata, render_fps=round(1.0 / self.dt))
         self.runner: ScenarioRun | None = None
@@ -100,11 +138,14 @@ class TetherEnv(gym.Env):
         length = float(np.clip(length, self.min_length, self.max_length))
         return {
             # a steady-state start where one exists, else the cable settles with the walker held
-            "simulation": {"timestep": self.timestep, "duration": 1e5, "output_interval": self.dt, "start": "auto"},
+            # (an episode steps until the agent stops, records nothing, and its length is the
+            # TimeLimit's: the run-size limits of a scenario file do not apply)
+            "simulation": {"timestep": self.timestep, "duration": 1e4, "output_interval": 1.0, "start": "auto",
+                           "max_wall_hours": 1000.0, "max_output_gb": 1000.0},
             "water": {"depth": self.depth,
                       "current": {"type": "exponential", "surface_speed": float(rng.uniform(0.0, self.current_max)),
                                   "decay_depth": float(rng.uniform(10.0, 40.0)),
-                                  "heading": float(rng.uniform(-math.pi, math.pi))}},
+                                  "heading_deg": math.degrees(rng.uniform(-math.pi, math.pi))}},
             "tether": {"length": length, "segments": self.segments, "diameter": self.diameter,
                        "density": self.cable_density, "EA": self.EA, "rated_load": self.rated_load},
             "ship": {"mode": "fixed", "position": [0.0, 0.0]},
@@ -117,10 +158,7 @@ class TetherEnv(gym.Env):
         super().reset(seed=seed)
         self._close_sim()
         data = self._scenario(self.np_random)
-        try:
-            sc = load_scenario(data=data, name=type(self).__name__)
-        except ScenarioError as exc:
-            raise ValueError(str(exc)) from None
+        sc = load_scenario(data=data, name=type(self).__name__)
         self.runner = ScenarioRun(sc)
         self.broke = False
         self._prev_tow = self.tow_tension()

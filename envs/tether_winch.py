@@ -43,27 +43,36 @@ walker's speed.
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 from gymnasium import spaces
 
-from .base import TetherEnv, _check
+from mjtether.config import param
+
+from .base import TetherEnv, TetherEnvConfig, _finite_action, kwargs_table
+
+
+@dataclass(frozen=True)
+class TetherWinchConfig(TetherEnvConfig):
+    """``TetherWinch-v0``'s keyword arguments: the site and tether, the route, the reward."""
+
+    route_duration: float = param(60.0, 1.0, 1e5, "s", "duration of the three-leg route")
+    tension_ref: float = param(500.0, 1.0, 1e8, "N", "T_ref, the reward's tension scale")
+    slack_allowance: float = param(10.0, 0.1, 1e4, "m", "tether on the seabed before w_slack applies")
+    w_tension: float = param(1.0, 0.0, 1e3, "", "weight of the tow tension")
+    w_steady: float = param(0.5, 0.0, 1e3, "", "weight of the change in tow tension")
+    w_slack: float = param(0.5, 0.0, 1e3, "", "weight of excess cable on the seabed")
+    failure_penalty: float = param(50.0, 0.0, 1e6, "", "penalty on termination")
 
 
 class TetherWinchEnv(TetherEnv):
-    """See the module docstring. Keyword arguments of ``TetherEnv`` set the site and tether."""
+    """See the module docstring."""
 
-    def __init__(self, *, route_duration: float = 60.0, tension_ref: float = 500.0, slack_allowance: float = 10.0,
-                 w_tension: float = 1.0, w_steady: float = 0.5, w_slack: float = 0.5, failure_penalty: float = 50.0,
-                 **kwargs):
+    Config = TetherWinchConfig
+
+    def __init__(self, **kwargs):
         super().__init__(**kwargs)
-        self.route_duration = _check("route_duration", route_duration, 1.0, 1e5, "s")
-        self.tension_ref = _check("tension_ref", tension_ref, 1.0, 1e8, "N")
-        self.slack_allowance = _check("slack_allowance", slack_allowance, 0.1, 1e4, "m")
-        self.w_tension = _check("w_tension", w_tension, 0.0, 1e3)
-        self.w_steady = _check("w_steady", w_steady, 0.0, 1e3)
-        self.w_slack = _check("w_slack", w_slack, 0.0, 1e3)
-        self.failure_penalty = _check("failure_penalty", failure_penalty, 0.0, 1e6)
         T2 = 2.0 * self.rated_load
         lo = [0.0, 0.0, 0.0, 0.0, -1.0, -1.0, 0.0, -3.0] + [-5.0] * 6 + [0.0, -self.max_rate]
         hi = [self.max_length, T2, T2, 1e4, 1.0, 1.0, 3.0, 3.0] + [5.0] * 6 + [self.max_length, self.max_rate]
@@ -77,8 +86,8 @@ class TetherWinchEnv(TetherEnv):
         turn = np.where(rng.uniform(size=legs) < 0.5, 0.0, rng.uniform(-0.06, 0.06, legs))
         heading = float(rng.uniform(-0.5, 0.5))
         start = [self.start_distance * math.cos(heading), self.start_distance * math.sin(heading)]
-        return {"type": "walker", "start": start, "heading": heading,
-                "commands": [[float(a), float(b), float(c)] for a, b, c in zip(t, speed, turn)]}
+        return {"type": "walker", "start": start, "heading_deg": math.degrees(heading),
+                "commands": [[float(a), float(b), math.degrees(c)] for a, b, c in zip(t, speed, turn)]}
 
     # ---------------------------------------------------------------- gymnasium API
 
@@ -91,7 +100,7 @@ class TetherWinchEnv(TetherEnv):
     def step(self, action):
         if self.runner is None:
             raise RuntimeError("call reset() before step()")
-        a = float(np.clip(np.asarray(action, dtype=float).reshape(-1)[0], -1.0, 1.0))
+        a = float(_finite_action(action, 1)[0])
         self.runner.winch.command(a * self.max_rate)
         self._advance()
         obs = self._get_obs()
@@ -128,3 +137,6 @@ class TetherWinchEnv(TetherEnv):
                 "deployed_length": r.bt.deployed_length, "tow_point": tow, "robot_speed": float(np.hypot(*v)),
                 "length_on_seabed": self.length_on_seabed(), "rated_load_exceeded": self.broke,
                 "time": r.sim.time}
+
+
+TetherWinchEnv.__doc__ += kwargs_table(TetherWinchConfig)

@@ -39,32 +39,40 @@ the tensions, the positions and ``is_success``.
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 from gymnasium import spaces
 
+from mjtether.config import param
 from mjtether.runner import RunFailed
 
-from .base import TetherEnv, _check
+from .base import TetherEnv, TetherEnvConfig, _finite_action, kwargs_table
+
+
+@dataclass(frozen=True)
+class TetheredWalkerConfig(TetherEnvConfig):
+    """``TetheredWalker-v0``'s keyword arguments: the site and tether, the walker's limits, the reward."""
+
+    max_speed: float = param(0.5, 0.05, 1.0, "m/s", "forward speed at action 1")
+    max_turn_rate: float = param(0.2, 0.01, 0.5, "rad/s", "turn rate at action 1")
+    goal_radius: float = param(1.0, 0.1, 100.0, "m", "the goal is reached within this distance")
+    force_ref: float = param(500.0, 1.0, 1e8, "N", "the reward's tow-force scale")
+    energy_ref: float = param(500.0, 1.0, 1e8, "J", "the reward's energy scale")
+    w_progress: float = param(1.0, 0.0, 1e3, "", "weight of progress towards the goal")
+    w_force: float = param(0.2, 0.0, 1e3, "", "weight of the tow force")
+    w_energy: float = param(0.05, 0.0, 1e3, "", "weight of the leg actuators' work")
+    goal_bonus: float = param(50.0, 0.0, 1e6, "", "bonus on reaching the goal")
+    failure_penalty: float = param(50.0, 0.0, 1e6, "", "penalty on breaking the tether or running out of it")
 
 
 class TetheredWalkerEnv(TetherEnv):
-    """See the module docstring. Keyword arguments of ``TetherEnv`` set the site and tether."""
+    """See the module docstring."""
 
-    def __init__(self, *, max_speed: float = 0.5, max_turn_rate: float = 0.2, goal_radius: float = 1.0,
-                 force_ref: float = 500.0, energy_ref: float = 500.0, w_progress: float = 1.0, w_force: float = 0.2,
-                 w_energy: float = 0.05, goal_bonus: float = 50.0, failure_penalty: float = 50.0, **kwargs):
+    Config = TetheredWalkerConfig
+
+    def __init__(self, **kwargs):
         super().__init__(**kwargs)
-        self.max_speed = _check("max_speed", max_speed, 0.05, 1.0, "m/s")
-        self.max_turn_rate = _check("max_turn_rate", max_turn_rate, 0.01, 0.5, "rad/s")
-        self.goal_radius = _check("goal_radius", goal_radius, 0.1, 100.0, "m")
-        self.force_ref = _check("force_ref", force_ref, 1.0, 1e8, "N")
-        self.energy_ref = _check("energy_ref", energy_ref, 1.0, 1e8, "J")
-        self.w_progress = _check("w_progress", w_progress, 0.0, 1e3)
-        self.w_force = _check("w_force", w_force, 0.0, 1e3)
-        self.w_energy = _check("w_energy", w_energy, 0.0, 1e3)
-        self.goal_bonus = _check("goal_bonus", goal_bonus, 0.0, 1e6)
-        self.failure_penalty = _check("failure_penalty", failure_penalty, 0.0, 1e6)
         F2, L = 2.0 * self.rated_load, self.max_length
         lo = [-1e3, -1e3, 0.0, -3.0, -3.0, -3.0, -F2, -F2, -F2, 0.0, 0.0, 0.0, -self.max_rate] + [-5.0] * 6
         hi = [1e3, 1e3, 1e3, 3.0, 3.0, 3.0, F2, F2, F2, L, F2, L, self.max_rate] + [5.0] * 6
@@ -77,7 +85,8 @@ class TetheredWalkerEnv(TetherEnv):
         start = np.array([math.cos(heading), math.sin(heading)]) * self.start_distance
         d, bearing = rng.uniform(15.0, 30.0), heading + rng.uniform(-math.pi / 2, math.pi / 2)
         self.goal = start + d * np.array([math.cos(bearing), math.sin(bearing)])
-        return {"type": "walker", "start": start.tolist(), "heading": heading, "commands": [[0.0, 0.0, 0.0]]}
+        return {"type": "walker", "start": start.tolist(), "heading_deg": math.degrees(heading),
+                "commands": [[0.0, 0.0, 0.0]]}
 
     # ---------------------------------------------------------------- gymnasium API
 
@@ -90,7 +99,7 @@ class TetheredWalkerEnv(TetherEnv):
     def step(self, action):
         if self.runner is None:
             raise RuntimeError("call reset() before step()")
-        a = np.clip(np.asarray(action, dtype=float).reshape(-1), -1.0, 1.0)
+        a = _finite_action(action, 3)
         r = self.runner
         r.set_command(a[0] * self.max_speed, a[1] * self.max_turn_rate)
         r.winch.command(a[2] * self.max_rate)
@@ -152,3 +161,6 @@ class TetheredWalkerEnv(TetherEnv):
                 "tow_tension": self.tow_tension(), "deployed_length": r.bt.deployed_length,
                 "position": r.sim.data.xpos[r.torso].copy(), "rated_load_exceeded": self.broke,
                 "time": r.sim.time}
+
+
+TetheredWalkerEnv.__doc__ += kwargs_table(TetheredWalkerConfig)

@@ -8,7 +8,10 @@ import numpy as np
 
 
 def finite(name: str, value) -> float:
-    """Return ``value`` as a float, or raise if it is not a finite number."""
+    """Return ``value`` as a float, or raise if it is not a finite number (text and booleans
+    are refused: ``"100"`` is not a length)."""
+    if isinstance(value, (str, bytes, bool, np.bool_)):
+        raise ValueError(f"{name} must be a finite number, got {value!r}")
     try:
         x = float(value)
     except (TypeError, ValueError):

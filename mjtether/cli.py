@@ -3,11 +3,14 @@
 from __future__ import annotations
 
 import argparse
+import contextlib
+import signal
 import sys
+import threading
 
 from pathlib import Path
 
-from . import demo
+from . import _checks, demo
 from .units import knots
 
 
@@ -21,18 +24,24 @@ def main(argv=None) -> int:
     demo_cmd.add_argument("--duration", type=float, default=120.0, help="simulated time (s), default 120")
     run_cmd = sub.add_parser("run", help="run a scenario file and write its results folder")
     run_cmd.add_argument("scenario", nargs="?", help="scenario TOML file (default: the built-in scenario)")
+    _set_option(run_cmd)
     run_cmd.add_argument("--out", default="results", help="results folder (default: ./results)")
+    run_cmd.add_argument("--overwrite", action="store_true",
+                         help="replace DIR only if it holds an earlier mjtether result")
     run_cmd.add_argument("--no-plots", action="store_true", help="skip the PNG plots")
     run_cmd.add_argument("--video", nargs="?", const="video.mp4", metavar="NAME",
                          help="also render a video into the results folder (default name video.mp4; .mp4 or .gif)")
     _video_options(run_cmd)
     render_cmd = sub.add_parser("render", help="render a scenario run to a video file (no display needed)")
     render_cmd.add_argument("scenario", nargs="?", help="scenario TOML file (default: the built-in scenario)")
+    _set_option(render_cmd)
     render_cmd.add_argument("-o", "--output", default="run.mp4", help="video file, .mp4 (H.264) or .gif (default run.mp4)")
     render_cmd.add_argument("--duration", type=float, help="simulated seconds to render (default: the scenario's)")
+    render_cmd.add_argument("--overwrite", action="store_true", help="replace an existing video file")
     _video_options(render_cmd)
     solve_cmd = sub.add_parser("solve", help="print the quasi-static answer for a scenario's initial state")
     solve_cmd.add_argument("scenario", nargs="?", help="scenario TOML file (default: the built-in scenario)")
+    _set_option(solve_cmd)
     args = ap.parse_args(argv)
     if args.command == "run":
         return _run(args)
@@ -42,6 +51,8 @@ def main(argv=None) -> int:
         return _render(args)
     if args.command == "demo":
         try:
+            _checks.in_range("--current-knots", args.current_knots, 0.0, 19.0, "kn")
+            _checks.in_range("--duration", args.duration, 1e-3, 86400.0, "s")
             res = demo.main(duration=args.duration, length=args.length, segments=args.segments,
                             current=knots(args.current_knots))
         except ValueError as exc:
@@ -50,6 +61,12 @@ def main(argv=None) -> int:
         print(f"after {res['time']:.0f} s: ship-end tension {res['ship_tension']:.1f} N, "
               f"weight-end tension {res['weight_tension']:.1f} N")
     return 0
+
+
+def _set_option(p) -> None:
+    p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
+                   help="override a scenario key, checked as in the file (repeatable), e.g. "
+                        "--set simulation.duration=10 --set tether.length=300")
 
 
 def _video_options(p) -> None:
@@ -66,21 +83,23 @@ def _video_options(p) -> None:
                    help="MuJoCo's default visuals (shadows, reflections, anti-aliasing): slower")
 
 
-def _video_factory(args, path, duration=None):
+def _video_factory(args, path, duration=None, overwrite=True):
     """A ``run(video=...)`` factory for the options in ``args``; raises ValueError on bad ones."""
     from .render import VideoRecorder, VideoSettings, check_output_path
 
     settings = VideoSettings(width=args.width, height=args.height, fps=args.fps, camera=args.camera,
                              tuned=not args.default_visuals, tension_scale=args.tension_scale)
-    check_output_path(path)
+    check_output_path(path, overwrite=overwrite)
     return lambda runner: VideoRecorder(runner, path, settings, duration=duration)
 
 
-def _load(path):
+def _load(path, sets=()):
+    """The checked scenario (the built-in one if ``path`` is None) with ``--set`` overrides, or
+    None after printing the one-line reason."""
     from .scenario import ScenarioError, load_scenario
 
     try:
-        return load_scenario(path if path else DEFAULT_SCENARIO)
+        return load_scenario(path if path else DEFAULT_SCENARIO, overrides=sets)
     except ScenarioError as exc:
         print(f"mjtether: {exc}", file=sys.stderr)
         return None
@@ -89,7 +108,7 @@ def _load(path):
 DEFAULT_SCENARIO = Path(__file__).resolve().parent / "scenarios" / "default.toml"
 
 
-def _simulate(sc: dict, command: str, what: str, **kw):
+def _simulate(sc, command: str, what: str, **kw):
     """``runner.run`` with a progress bar; returns its result, or None after printing why it
     failed (``what``: what the failure leaves unwritten)."""
     from tqdm import tqdm
@@ -97,7 +116,7 @@ def _simulate(sc: dict, command: str, what: str, **kw):
     from .runner import RunFailed, run
     from .simulation import SimulationDiverged
 
-    bar = tqdm(total=int(round(sc["simulation"]["duration"] / sc["simulation"]["timestep"])), unit="step",
+    bar = tqdm(total=int(round(sc.simulation.duration / sc.simulation.timestep)), unit="step",
                desc=f"mjtether {command}", leave=False)
     try:
         return run(sc, progress=lambda k, n: bar.update(k - bar.n), **kw)
@@ -110,33 +129,46 @@ def _simulate(sc: dict, command: str, what: str, **kw):
 
 def _run(args) -> int:
     from . import results
+    from .outdir import OutputError, Staging, check_target
 
-    sc = _load(args.scenario)
+    sc = _load(args.scenario, args.set)
     if sc is None:
         return 2
-    video, extra = None, {}
-    if args.video:
-        out_dir = Path(args.out)
-        name = Path(args.video).name
-        staged = out_dir.parent / f".{out_dir.name}.{name}"
-        try:
-            video = _video_factory(args, staged)
-        except ValueError as exc:
-            print(f"mjtether run: {exc}", file=sys.stderr)
-            return 2
-        extra = {name: staged}
-    done = _simulate(sc, "run", "results", video=video)
-    if done is None:
-        return 1
-    rows, history, info = done
-    if "video" in info:
-        info["video"]["file"] = next(iter(extra))  # its name inside the results folder
+    if args.video and Path(args.video).suffix.lower() not in (".mp4", ".gif"):
+        print(f"mjtether run: --video must name an .mp4 or .gif file, got {args.video!r}", file=sys.stderr)
+        return 2
+    try:  # before simulating: a refused --out must cost nothing and be left untouched
+        target = check_target(args.out, overwrite=args.overwrite, protect=[args.scenario] if args.scenario else [])
+    except OutputError as exc:
+        print(f"mjtether run: {exc}", file=sys.stderr)
+        return 2
     try:
-        out = results.write(args.out, sc, rows, history, info, scenario_path=args.scenario, plots=not args.no_plots,
-                            extra_files=extra)
-    finally:
-        for f in extra.values():
-            f.unlink(missing_ok=True)
+        # A staging folder for the whole run: it holds the video as it is rendered and goes away on
+        # any failure, exception, SIGINT or SIGTERM. results.write stages and commits the results.
+        with Staging(target, overwrite=args.overwrite) as scratch:
+            video, extra = None, {}
+            if args.video:
+                name = Path(args.video).name
+                try:
+                    video = _video_factory(args, scratch.path / name)
+                except ValueError as exc:
+                    print(f"mjtether run: {exc}", file=sys.stderr)
+                    return 2
+                extra = {name: scratch.path / name}
+            done = _simulate(sc, "run", "results", video=video)
+            if done is None:
+                return 1
+            rows, history, info = done
+            if "video" in info:
+                info["video"]["file"] = next(iter(extra))  # its name inside the results folder
+            out = results.write(target, sc, rows, history, info, scenario_path=args.scenario,
+                                plots=not args.no_plots, extra_files=extra, overwrite=args.overwrite)
+    except OutputError as exc:
+        print(f"mjtether run: {exc}", file=sys.stderr)
+        return 1
+    except KeyboardInterrupt:
+        print("mjtether run: interrupted; no results written", file=sys.stderr)
+        return 130
     s = results.summary(sc, rows, info, args.scenario)
     print(f"{info['simulated_s']:.0f} s simulated in {info['wall_time_s']:.1f} s "
           f"({info['realtime_factor']:.1f}x real time); final ship-end tension {s['final']['ship_tension_N']:.0f} N, "
@@ -146,20 +178,21 @@ def _run(args) -> int:
 
 
 def _render(args) -> int:
-    sc = _load(args.scenario)
+    sets = args.set + ([f"simulation.duration={args.duration!r}"] if args.duration is not None else [])
+    sc = _load(args.scenario, sets)
     if sc is None:
         return 2
-    if args.duration is not None:
-        if not 0 < args.duration <= 1e6:
-            print(f"mjtether render: --duration must be in (0, 1e6] s, got {args.duration}", file=sys.stderr)
-            return 2
-        sc["simulation"]["duration"] = args.duration
     try:
-        video = _video_factory(args, args.output)
+        video = _video_factory(args, args.output, overwrite=args.overwrite)
     except ValueError as exc:
         print(f"mjtether render: {exc}", file=sys.stderr)
         return 2
-    done = _simulate(sc, "render", "video", keep_nodes=False, video=video)
+    try:
+        with _terminate_as_exit():  # the half-written video is removed on SIGTERM too
+            done = _simulate(sc, "render", "video", keep_nodes=False, video=video)
+    except KeyboardInterrupt:
+        print("mjtether render: interrupted; no video written", file=sys.stderr)
+        return 130
     if done is None:
         return 1
     info = done[2]
@@ -169,12 +202,30 @@ def _render(args) -> int:
     return 0
 
 
+@contextlib.contextmanager
+def _terminate_as_exit():
+    """SIGTERM raises SystemExit(143) while inside, so that ``finally`` and ``except``
+    clean-ups run (the default action kills the process with no clean-up at all)."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+
+    def on_term(signum, frame):
+        raise SystemExit(128 + signum)
+
+    old = signal.signal(signal.SIGTERM, on_term)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, old)
+
+
 def _solve(args) -> int:
     import numpy as np
 
     from .runner import ScenarioRun
 
-    sc = _load(args.scenario)
+    sc = _load(args.scenario, args.set)
     if sc is None:
         return 2
     try:

@@ -7,6 +7,7 @@ import mujoco
 import numpy as np
 from tqdm import tqdm
 
+from . import _checks
 from . import (BodyPoint, ExponentialCurrent, FixedPoint, LinearDensity, RigidBodyHydro, Simulation,
                TetherSpec, WaterColumn, add_body_hydro, add_tether, stability)
 
@@ -38,6 +39,9 @@ def hanging_tether(length: float = 200.0, segments: int = 50, current: float = 1
 
 
 def main(duration: float = 120.0, report_every: float = 20.0, **kwargs) -> dict:
+    """Run the demo for ``duration`` s (at most a day), printing every ``report_every`` s."""
+    _checks.in_range("demo duration", duration, 1e-3, 86400.0, "s")
+    _checks.in_range("demo report_every", report_every, 1e-3, 86400.0, "s")
     with hanging_tether(**kwargs) as sim:
         tt = sim.tether()
         rows = []

@@ -159,11 +159,21 @@ class VideoSettings:
             raise ValueError(f"video.current_arrows must be in [0, 20], got {self.current_arrows!r}")
 
 
-def check_output_path(path) -> Path:
-    """The video file's path, if its suffix is a supported format (.mp4 or .gif)."""
+def check_output_path(path, overwrite: bool = True) -> Path:
+    """The video file's path, if its suffix is a supported format (.mp4 or .gif), it is not a
+    folder, and (unless ``overwrite``) no file is there yet."""
     p = Path(path)
     if p.suffix.lower() not in FORMATS:
         raise ValueError(f"video file must end in {' or '.join(FORMATS)}, got {str(path)!r}")
+    if p.is_dir():
+        raise ValueError(f"video file {str(path)!r} is a folder; give a file name ending in {' or '.join(FORMATS)}")
+    if p.exists() and not overwrite:
+        raise ValueError(f"video file {str(path)!r} exists; choose another name or pass --overwrite to replace it")
+    parent = p.resolve().parent
+    while not parent.exists():
+        parent = parent.parent
+    if not parent.is_dir():
+        raise ValueError(f"video file {str(path)!r}: {parent} is a file, not a folder")
     return p
 
 
@@ -211,7 +221,7 @@ class FrameRenderer:
     # ------------------------------------------------------------- frame content
 
     def _default_scale(self) -> float:
-        rated = self.runner.sc["tether"]["rated_load"]
+        rated = self.runner.sc.tether.rated_load
         if math.isfinite(rated):
             return float(rated)
         t = self.runner.bt.tension(self.runner.sim.data)
@@ -348,7 +358,7 @@ class VideoRecorder:
         self.s = s = settings or VideoSettings()
         self.path = check_output_path(path)
         self.path.parent.mkdir(parents=True, exist_ok=True)
-        dur = runner.sc["simulation"]["duration"] if duration is None else duration
+        dur = runner.sc.simulation.duration if duration is None else duration
         self.times = frame_times(dur, s.fps)
         self.n_frames = len(self.times)
         self.frames = 0

@@ -11,10 +11,14 @@ Files (all SI units; ``docs/scenarios.md`` lists the CSV columns):
   run; those still on the drum have length and tension 0, their nodes sit at the fairlead;
 * ``summary.json``: the scenario as read (defaults filled in), final and peak tensions, wall time,
   real-time factor, how the run was started;
-* ``tension.png``, ``profile.png`` (side and top views of tether snapshots), ``track.png``.
+* ``tension.png``, ``profile.png`` (side and top views of tether snapshots), ``track.png``;
+* ``mjtether-manifest.json``: the files above with sizes and SHA-256, written last: it marks the
+  folder as an mjtether result, the only kind ``overwrite`` replaces.
 
-Everything is written to a temporary folder beside ``out`` and renamed into place at the end,
-so a failed run leaves nothing that looks like results.
+Everything is written to a temporary folder beside ``out`` and renamed into place at the end
+(``outdir.Staging``), so a failed or interrupted run leaves nothing that looks like results, and
+an existing folder is never replaced unless it is purely an earlier mjtether result
+(``outdir.check_target``).
 """
 
 from __future__ import annotations
@@ -23,11 +27,11 @@ import csv
 import json
 import math
 import shutil
-import tempfile
 from pathlib import Path
 
 import numpy as np
 
+from .outdir import Staging, check_target
 from .runner import RECORD_FIELDS
 
 
@@ -48,11 +52,11 @@ def _jsonable(x):
     return x
 
 
-def summary(sc: dict, rows: np.ndarray, info: dict, scenario_path) -> dict:
+def summary(sc, rows: np.ndarray, info: dict, scenario_path) -> dict:
     col = {name: i for i, (name, _, _) in enumerate(RECORD_FIELDS)}
     return {
         "scenario_file": None if scenario_path is None else str(scenario_path),
-        "scenario": _jsonable(sc),
+        "scenario": _jsonable(sc.to_dict()),
         "samples": int(len(rows)),
         "final": {"time_s": float(rows[-1, col["time"]]),
                   "ship_tension_N": float(rows[-1, col["ship_tension"]]),
@@ -65,16 +69,17 @@ def summary(sc: dict, rows: np.ndarray, info: dict, scenario_path) -> dict:
 
 
 def write(out, sc: dict, rows: np.ndarray, history: dict, info: dict, scenario_path=None,
-          plots: bool = True, extra_files: dict | None = None) -> Path:
-    """Write the results folder ``out`` atomically (replacing an older one); returns its path.
+          plots: bool = True, extra_files: dict | None = None, *, overwrite: bool = False) -> Path:
+    """Write the results folder ``out`` atomically; returns its absolute path.
     ``history`` is ``runner.run``'s (nodes, tension, element_length per sample);
-    ``extra_files`` {name: path} are moved into it (e.g. a video rendered during the run)."""
+    ``extra_files`` {name: path} are moved into it (e.g. a video rendered during the run).
+    ``out`` may be absent or an empty folder; with ``overwrite`` also an earlier mjtether result
+    (nothing else: raises ``outdir.OutputError``, as for a full disk, and writes nothing). The cli
+    checks ``out`` before simulating; it is checked again here for callers from Python."""
+    target = check_target(out, overwrite=overwrite, protect=[scenario_path] if scenario_path else ())
     nodes = history["nodes"]
-    out = Path(out)
-    out.parent.mkdir(parents=True, exist_ok=True)
-    tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}.partial-", dir=out.parent))
-    tmp.chmod(0o755)  # mkdtemp makes it private; results are ordinary files
-    try:
+    with Staging(target, overwrite=overwrite) as stage:
+        tmp = stage.path
         with open(tmp / "timeseries.csv", "w", newline="") as fh:
             w = csv.writer(fh)
             w.writerow(column_names())
@@ -87,22 +92,10 @@ def write(out, sc: dict, rows: np.ndarray, history: dict, info: dict, scenario_p
             _plots(tmp, rows, nodes, sc)
         for name, path in (extra_files or {}).items():
             shutil.move(str(path), tmp / name)
-        if out.exists():
-            old = out.with_name(f".{out.name}.old")
-            if old.exists():
-                shutil.rmtree(old)
-            out.rename(old)
-            tmp.rename(out)
-            shutil.rmtree(old)
-        else:
-            tmp.rename(out)
-    except BaseException:
-        shutil.rmtree(tmp, ignore_errors=True)
-        raise
-    return out
+        return stage.commit()
 
 
-def _plots(folder: Path, rows: np.ndarray, nodes: np.ndarray, sc: dict) -> None:
+def _plots(folder: Path, rows: np.ndarray, nodes: np.ndarray, sc) -> None:
     import matplotlib
 
     matplotlib.use("Agg")
@@ -126,7 +119,7 @@ def _plots(folder: Path, rows: np.ndarray, nodes: np.ndarray, sc: dict) -> None:
 
     fig, ax = plt.subplots(1, 2, figsize=(11, 4.5))
     k = np.unique(np.linspace(0, len(nodes) - 1, 6).round().astype(int))
-    depth = sc["water"]["depth"]
+    depth = sc.water.depth
     for i in k:
         ax[0].plot(nodes[i, :, 0], nodes[i, :, 2], label=f"t = {t[i]:.0f} s")
         ax[1].plot(nodes[i, :, 0], nodes[i, :, 1])

@@ -25,6 +25,7 @@ import numpy as np
 from . import builder, water as wm
 from .quasistatic import initial_state
 from .rigidbody import add_body_hydro
+from .scenario import Scenario
 from .simulation import Simulation
 from .walker import HYDRO as WALKER_HYDRO
 from .walker import Tripod, walker_spec
@@ -96,41 +97,42 @@ class RunFailed(RuntimeError):
     """The run stopped: divergence, or the tether's rated load was exceeded."""
 
 
-def water_from(sc: dict) -> wm.WaterColumn:
-    d, c = sc["water.density"], sc["water.current"]
-    if d["type"] == "constant":
-        density = wm.ConstantDensity(d["rho"])
-    elif d["type"] == "linear":
-        density = wm.LinearDensity(d["rho_surface"], d["rho_ref"], d["depth_ref"])
+def water_from(sc: Scenario) -> wm.WaterColumn:
+    """The scenario's water column (headings from degrees to radians)."""
+    d, c = sc.water.density, sc.water.current
+    if d.type == "constant":
+        density = wm.ConstantDensity(d.rho)
+    elif d.type == "linear":
+        density = wm.LinearDensity(d.rho_surface, d.rho_ref, d.depth_ref)
     else:
-        density = wm.TabulatedDensity(d["depths"], d["values"])
-    t = c["type"]
-    if t == "constant":
-        current = wm.ConstantCurrent(c["speed"], c["heading"])
-    elif t == "linear":
-        current = wm.LinearCurrent(c["surface_speed"], c["bottom_speed"], c["bottom_depth"], heading=c["heading"])
-    elif t == "exponential":
-        current = wm.ExponentialCurrent(c["surface_speed"], c["decay_depth"], c["heading"])
-    elif t == "power":
-        current = wm.PowerLawCurrent(c["surface_speed"], sc["water"]["depth"], c["exponent"], c["heading"])
+        density = wm.TabulatedDensity(d.depths, d.values)
+    heading = math.radians(c.heading_deg)
+    if c.type == "constant":
+        current = wm.ConstantCurrent(c.speed, heading)
+    elif c.type == "linear":
+        current = wm.LinearCurrent(c.surface_speed, c.bottom_speed, c.bottom_depth, heading=heading)
+    elif c.type == "exponential":
+        current = wm.ExponentialCurrent(c.surface_speed, c.decay_depth, heading)
+    elif c.type == "power":
+        current = wm.PowerLawCurrent(c.surface_speed, sc.water.depth, c.exponent, heading)
     else:
-        current = wm.TabulatedCurrent(c["depths"], c["speeds"], c["headings"])
-    return wm.WaterColumn(depth=sc["water"]["depth"], density=density, current=current)
+        headings = None if c.headings_deg is None else [math.radians(h) for h in c.headings_deg]
+        current = wm.TabulatedCurrent(c.depths, c.speeds, headings)
+    return wm.WaterColumn(depth=sc.water.depth, density=density, current=current)
 
 
-def tether_from(sc: dict) -> TetherSpec:
-    t = sc["tether"]
-    return TetherSpec(length=t["length"], segments=t["segments"], diameter=t["diameter"],
-                      density=None if t["mass_per_length"] > 0 else t["density"],
-                      mass_per_length=t["mass_per_length"] or None, cd_normal=t["cd_normal"],
-                      cd_tangential=t["cd_tangential"], ca_normal=t["ca_normal"], EA=t["EA"] or None, EI=t["EI"])
+def tether_from(sc: Scenario) -> TetherSpec:
+    t = sc.tether
+    return TetherSpec(length=t.length, segments=t.segments, diameter=t.diameter,
+                      density=None if t.mass_per_length > 0 else t.density,
+                      mass_per_length=t.mass_per_length or None, cd_normal=t.cd_normal,
+                      cd_tangential=t.cd_tangential, ca_normal=t.ca_normal, EA=t.EA or None, EI=t.EI)
 
 
-def winch_from(sc: dict) -> Winch:
-    w = sc["winch"]
-    return Winch(length=sc["tether"]["length"], mode=w["mode"], min_length=w["min_length"],
-                 max_length=w["max_length"], rate=w["rate"], max_rate=w["max_rate"], max_accel=w["max_accel"],
-                 band=w["band"], drum_damping=w["drum_damping"])
+def winch_from(sc: Scenario) -> Winch:
+    w = sc.winch
+    return Winch(length=sc.tether.length, mode=w.mode, min_length=w.min_length, max_length=w.max_length,
+                 rate=w.rate, max_rate=w.max_rate, max_accel=w.max_accel, band=w.band, drum_damping=w.drum_damping)
 
 
 @dataclass
@@ -147,11 +149,10 @@ class Ship:
     _wp: int = field(default=0)
 
     @classmethod
-    def from_scenario(cls, sc: dict) -> "Ship":
-        s = sc["ship"]
-        return cls(s["mode"], np.array([*s["position"], 0.0]), np.array([*s["offset"], 0.0]),
-                   [np.array([*p, 0.0]) for p in (s["waypoints"] or [])], s["speed"], s["heave_amplitude"],
-                   s["heave_period"])
+    def from_scenario(cls, sc: Scenario) -> "Ship":
+        s = sc.ship
+        return cls(s.mode, np.array([*s.position, 0.0]), np.array([*s.offset, 0.0]),
+                   [np.array([*p, 0.0]) for p in (s.waypoints or ())], s.speed, s.heave_amplitude, s.heave_period)
 
     def advance(self, dt: float, t: float, robot: np.ndarray) -> np.ndarray:
         """Move the ship over ``dt`` (s) and return the fairlead position."""
@@ -176,33 +177,33 @@ class Ship:
 class ScenarioRun:
     """A compiled scenario, ready to step. ``record()`` returns one row of ``RECORD_FIELDS``."""
 
-    def __init__(self, sc: dict):
+    def __init__(self, sc: Scenario):
         self.sc = sc
         self.water = water_from(sc)
         self.tether_spec = tether_from(sc)
         self.winch = winch_from(sc)
         self.ship = Ship.from_scenario(sc)
-        dt = sc["simulation"]["timestep"]
+        dt = sc.simulation.timestep
         spec = mujoco.MjSpec()
         spec.option.timestep = dt
         spec.option.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST
         spec.modelname = "mjtether_scenario"
-        wsc = sc["water"]
-        self.slope, self.slope_heading = wsc["seabed_slope"], wsc["seabed_slope_heading"]
-        builder.add_seabed(spec, self.water, friction=wsc["seabed_friction"], slope=self.slope,
+        wsc = sc.water
+        self.slope, self.slope_heading = math.radians(wsc.seabed_slope_deg), math.radians(wsc.seabed_slope_heading_deg)
+        builder.add_seabed(spec, self.water, friction=wsc.seabed_friction, slope=self.slope,
                            slope_heading=self.slope_heading)
         ship = spec.worldbody.add_body(name="ship", mocap=True, pos=self.ship.advance(0.0, 0.0, np.zeros(3)))
         ship.add_site(name="ship/fairlead")
         ship.add_geom(type=mujoco.mjtGeom.mjGEOM_BOX, size=[4.0, 1.5, 1.0], pos=[0, 0, 1.0], contype=0,
                       conaffinity=0, rgba=[0.8, 0.8, 0.85, 1])
         radius = self.tether_spec.diameter / 2
-        r = sc["robot"]
-        self.walker = r["type"] == "walker"
-        self.heading = r["heading"] if self.walker else None
+        r = sc.robot
+        self.walker = r.type == "walker"
+        self.heading = math.radians(r.heading_deg) if self.walker else None
         bodies = []
         if self.walker:
-            x, y = r["start"]
-            yaw = r["heading"]
+            x, y = r.start
+            yaw = self.heading
             # stand it at its height over the seabed, its legs square to a sloped seabed
             tilt = np.array(spec.geom("seabed").quat)
             quat = np.zeros(4)
@@ -214,21 +215,22 @@ class ScenarioRun:
             frame.attach_body(walker_spec().body("torso"), "walker/", "")
             bodies.append(add_body_hydro(spec, "walker/torso", WALKER_HYDRO))
             end = builder.SitePoint("walker/tow_point")
-            self.commands = np.array(r["commands"], dtype=float)
+            self.commands = np.array(r.commands, dtype=float)  # (s, m/s, rad/s)
+            self.commands[:, 2] = np.radians(self.commands[:, 2])
             self.manual_command = None
-            self.gait = Tripod(period=r["gait_period"])
+            self.gait = Tripod(period=r.gait_period)
             # the walker stands on the seabed first, alone; the tether's steady state is solved to
             # its tow point standing, and the run starts with the walker in that pose
             self._stand, robot = self._standing_pose(spec, bodies, dt)
         else:
-            robot = np.array(r["position"], dtype=float)
+            robot = np.array(r.position, dtype=float)
             # a tow point on the seabed holds the cable's axis one radius above it
             robot[2] = max(robot[2], self.seabed_z(robot[0], robot[1]) + radius / math.cos(self.slope))
             end = builder.FixedPoint(robot)
         self.robot_position = robot
         top = np.array(spec.body("ship").pos)
         self.initial, self.initial_note = self._initial_state(top, robot, dt)
-        start = sc["simulation"]["start"]
+        start = sc.simulation.start
         if start == "settle" or (start == "auto" and self.initial is None):
             settle, self.initial = True, None
             self.initial_note = "settled with the robot held" + (
@@ -244,7 +246,7 @@ class ScenarioRun:
                                      name1="walker/torso")
             hold.active = True
         self.tm = builder.add_tether(spec, self.tether_spec, builder.SitePoint("ship/fairlead"), end,
-                                     water=self.water, nodes=nodes, seabed_friction=sc["tether"]["seabed_friction"],
+                                     water=self.water, nodes=nodes, seabed_friction=sc.tether.seabed_friction,
                                      max_length=self.winch.max_length, end_at=robot if self.walker else None)
         self.sim = Simulation(spec, self.water, tethers=[self.tm], bodies=bodies)
         try:
@@ -253,7 +255,7 @@ class ScenarioRun:
             self.sim.close()  # a run that cannot start leaves nothing registered
             raise
 
-    def _start(self, sc: dict, dt: float, settle: bool) -> None:
+    def _start(self, sc: Scenario, dt: float, settle: bool) -> None:
         """Bind the controllers, set the walker's standing pose and pre-roll (see __init__)."""
         self.bt = self.sim.tether()
         m = self.sim.model
@@ -292,7 +294,7 @@ class ScenarioRun:
         self.sim.data.time = 0.0
         self.sim.forward()
         self.ship_mocap = m.body("ship").mocapid[0]
-        self.rated_load = sc["tether"]["rated_load"]
+        self.rated_load = sc.tether.rated_load
 
     def _standing_pose(self, spec, bodies, dt):
         """Let the walker stand (stepping in place) on the seabed for STAND_S without the tether,
@@ -322,7 +324,7 @@ class ScenarioRun:
             mujoco.mju_axisAngle2Quat(q_turn, n, turn)
             q = np.zeros(4)
             mujoco.mju_mulQuat(q, q_turn, d.qpos[adr + 3:adr + 7].copy())
-            x, y = self.sc["robot"]["start"]
+            x, y = self.sc.robot.start
             start = np.array([x, y, self.seabed_z(x, y)])
             p = d.qpos[adr:adr + 3].copy()
             p = start + (p - start) @ n * n  # same height over the seabed, at the commanded place
@@ -397,10 +399,10 @@ class ScenarioRun:
         keeping every 4th node (the same material points); then both without friction
         (MuJoCo's soft friction does not hold a laid tension gradient for long anyway).
         Returns (state, note) or (None, why)."""
-        cb = self.sc["tether"]["seabed_friction"]
+        cb = self.sc.tether.seabed_friction
         spec = self.tether_spec if length is None else replace(self.tether_spec, length=length)
-        sim = self.sc["simulation"]
-        layout = dict(layout=sim["laid_layout"], layout_angle=math.radians(sim["laid_layout_angle_deg"]))
+        sim = self.sc.simulation
+        layout = dict(layout=sim.laid_layout, layout_angle=math.radians(sim.laid_layout_angle_deg))
         if self.walker:  # slack cable lies back along the walker's track
             layout["layout_direction"] = (-math.cos(self.heading), -math.sin(self.heading))
         n4 = f" solved with {4 * spec.segments} elements"
@@ -552,7 +554,7 @@ class ScenarioRun:
         self.sim.close()
 
 
-def run(sc: dict, progress=None, keep_nodes: bool = True, video=None):
+def run(sc: Scenario, progress=None, keep_nodes: bool = True, video=None):
     """Simulate ``sc``; returns (rows (n, len(RECORD_FIELDS)), history, info). ``history`` has
     ``nodes`` (n, e+1, 3) m, ``tension`` (n, e) N and ``element_length`` (n, e) m for every one
     of the e elements allocated (numbered from the drum's core; see ``element_record``), each
@@ -560,10 +562,9 @@ def run(sc: dict, progress=None, keep_nodes: bool = True, video=None):
     ``progress(k, n)`` is called as it goes. ``video(runner)`` makes a ``render.VideoRecorder``
     for the built run; frames are then taken as they fall due and the file is finished, or
     deleted if the run fails. Raises ``RunFailed`` (or ``SimulationDiverged``)."""
-    sim_sc = sc["simulation"]
-    dt = sim_sc["timestep"]
-    n_steps = int(round(sim_sc["duration"] / dt))
-    every = max(1, int(round(sim_sc["output_interval"] / dt)))
+    dt = sc.simulation.timestep
+    n_steps = int(round(sc.simulation.duration / dt))
+    every = max(1, int(round(sc.simulation.output_interval / dt)))
     rows, hist = [], []
     t0 = time.perf_counter()
     runner = ScenarioRun(sc)

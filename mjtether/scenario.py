@@ -1,10 +1,15 @@
-"""Scenario files: a TOML description of a run, checked against a schema.
+"""A scenario: the typed tree of everything a run needs, and the TOML files that hold one.
 
-Every key has a type, a default, an allowed range and a unit (``SCHEMA`` below, rendered as
-``docs/scenarios.md`` by ``scenario_docs()``). Unknown keys, wrong types and values out of range
-raise ``ScenarioError`` naming the file, the key and what is allowed. Speeds may be given in
-knots by writing the key with a ``_kn`` suffix (``surface_speed_kn = 3``); they are converted to
-m/s on reading, and nothing inside the code sees knots.
+``Scenario`` is the one source of every key's default, unit, range and meaning: the TOML
+loader, the Python API (``Scenario(tether=Tether(length=300))``), the environments and
+``docs/scenarios.md`` (``mjtether.reference``) all come from it. Every error is a
+``ScenarioError`` naming the file, the key path (``tether.segments``), the value and what is
+allowed; everything is checked before anything is simulated, including the size of the run
+(``Scenario.estimate``).
+
+Units: SI, except degrees where a key ends in ``_deg`` (and turn rates in deg/s); speeds may be
+given in knots by writing the key with a ``_kn`` suffix (``surface_speed_kn = 3``).
+Frames: world, z up, water surface at z = 0, seabed at z = -depth; headings from +x towards +y.
 """
 
 from __future__ import annotations
@@ -14,300 +19,363 @@ import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 
-from .units import KNOT
+from .config import INF, RENAMED, ConfigError, Section, build, param, section, subsections, unknown_key_message
+from .tether import MAX_LENGTH, MAX_SEGMENTS, TetherSpec
 from .walker import Tripod
+from .winch import MODES as WINCH_MODES
+from .winch import Winch as _Winch
 
-INF = math.inf
+ScenarioError = ConfigError
+
+MAX_TURN_DEG_S = math.degrees(0.5)
+"""The walker's fastest commanded turn (deg/s): its gait's limit, 0.5 rad/s."""
+
+# ------------------------------------------------------------------ sections
 
 
 @dataclass(frozen=True)
-class Key:
-    """One scenario key: type ("float", "int", "str", "bool", "vec2", "vec3", "table"),
-    default (None: required where the section is used), range or choices, unit, meaning."""
+class Simulation(Section):
+    PATH = "simulation"
+    duration: float = param(120.0, 1e-3, 1e6, "s", "simulated time")
+    timestep: float = param(0.005, 1e-5, 0.05, "s", "MuJoCo time step (see mjtether.stability)")
+    output_interval: float = param(0.5, 1e-3, 1e4, "s", "time between recorded samples")
+    start: str = param("steady", doc="steady: from the quasi-static steady state, or stop with the reason if there "
+                       "is none; settle: the cable falls into place from a guessed shape while the robot is held, "
+                       "then the robot is released; auto: steady if it exists, else settle",
+                       choices=("steady", "settle", "auto"))
+    laid_layout: str = param("straight", doc="how slack cable lies on the seabed at the start: straight back along "
+                             "the robot's track, an arc, or an s", choices=("straight", "arc", "s"))
+    laid_layout_angle_deg: float = param(90.0, 1.0, 359.0, "deg", "arc / s: total turn of the slack cable")
+    max_wall_hours: float = param(6.0, 0.01, 1000.0, "h", "refuse a run estimated to take longer than this on "
+                                  "one core (see Scenario.estimate); raise it to run longer")
+    max_output_gb: float = param(4.0, 0.01, 1000.0, "GB", "refuse a run whose recorded samples would need more "
+                                 "memory than this; raise simulation.output_interval instead")
 
-    type: str
-    default: object
-    lo: float = -INF
-    hi: float = INF
-    unit: str = ""
-    doc: str = ""
-    choices: tuple = ()
-    knots: bool = False  # may be given as <key>_kn
-
-
-SCHEMA: dict[str, dict[str, Key]] = {
-    "simulation": {
-        "duration": Key("float", 120.0, 0.0, 1e6, "s", "simulated time"),
-        "timestep": Key("float", 0.005, 1e-5, 0.05, "s", "MuJoCo time step (see mjtether.stability)"),
-        "output_interval": Key("float", 0.5, 1e-3, 1e4, "s", "time between recorded samples"),
-        "start": Key("str", "steady", doc="steady: from the quasi-static steady state, or stop with the reason if "
-                     "there is none; settle: the cable falls into place from a guessed shape while the robot is "
-                     "held, then the robot is released; auto: steady if it exists, else settle",
-                     choices=("steady", "settle", "auto")),
-        "laid_layout": Key("str", "straight", doc="how slack cable lies on the seabed at the start: straight back "
-                           "along the robot's track, an arc, or an s", choices=("straight", "arc", "s")),
-        "laid_layout_angle_deg": Key("float", 90.0, 1.0, 359.0, "deg", "arc / s: total turn of the slack cable"),
-    },
-    "water": {
-        "depth": Key("float", 200.0, 0.1, 12000.0, "m", "seabed depth (positive)"),
-        "seabed_friction": Key("float", 0.6, 0.0, 5.0, "", "Coulomb friction of the seabed (robot feet)"),
-        "seabed_slope": Key("float", 0.0, 0.0, 0.5, "rad", "seabed slope (0.1745 rad = 10 deg); depth is the "
-                            "depth at x = y = 0"),
-        "seabed_slope_heading": Key("float", 0.0, -2 * math.pi, 2 * math.pi, "rad",
-                                    "direction in which the seabed rises, from +x towards +y"),
-    },
-    "water.density": {
-        "type": Key("str", "constant", doc="constant, linear or table", choices=("constant", "linear", "table")),
-        "rho": Key("float", 1025.0, 900.0, 1100.0, "kg/m^3", "constant: the density"),
-        "rho_surface": Key("float", 1025.0, 900.0, 1100.0, "kg/m^3", "linear: density at z = 0"),
-        "rho_ref": Key("float", 980.0, 900.0, 1100.0, "kg/m^3", "linear: density at depth_ref"),
-        "depth_ref": Key("float", 500.0, 0.1, 12000.0, "m", "linear: depth of rho_ref"),
-        "depths": Key("table", None, 0.0, 12000.0, "m", "table: depths, increasing"),
-        "values": Key("table", None, 900.0, 1100.0, "kg/m^3", "table: densities"),
-    },
-    "water.current": {
-        "type": Key("str", "constant", doc="constant, linear, exponential, power or table",
-                    choices=("constant", "linear", "exponential", "power", "table")),
-        "speed": Key("float", 0.0, 0.0, 10.0, "m/s", "constant: speed", knots=True),
-        "surface_speed": Key("float", 0.0, 0.0, 10.0, "m/s", "linear/exponential/power: speed at z = 0",
-                             knots=True),
-        "bottom_speed": Key("float", 0.0, 0.0, 10.0, "m/s", "linear: speed at bottom_depth", knots=True),
-        "bottom_depth": Key("float", 100.0, 0.1, 12000.0, "m", "linear: depth of bottom_speed"),
-        "decay_depth": Key("float", 15.0, 0.01, 12000.0, "m", "exponential: e-folding depth"),
-        "exponent": Key("float", 1 / 7, 0.0, 2.0, "", "power: exponent (profile zero at the seabed)"),
-        "heading": Key("float", 0.0, -2 * math.pi, 2 * math.pi, "rad", "direction the current flows to, from +x "
-                       "towards +y"),
-        "depths": Key("table", None, 0.0, 12000.0, "m", "table: depths, increasing"),
-        "speeds": Key("table", None, 0.0, 10.0, "m/s", "table: speeds"),
-        "headings": Key("table", None, -2 * math.pi, 2 * math.pi, "rad", "table: headings (default all 0)"),
-    },
-    "tether": {
-        "length": Key("float", 300.0, 0.1, 1e5, "m", "initial deployed (unstretched) length"),
-        "segments": Key("int", 60, 1, 5000, "", "number of elements N"),
-        "diameter": Key("float", 0.02, 1e-4, 2.0, "m", "hydrodynamic and buoyancy diameter"),
-        "density": Key("float", 1050.0, 1.0, 20000.0, "kg/m^3", "bulk density (or give mass_per_length)"),
-        "mass_per_length": Key("float", 0.0, 0.0, 1e4, "kg/m", "mass per metre in air; 0: use density"),
-        "cd_normal": Key("float", 1.2, 0.0, 10.0, "", "normal drag coefficient (on d l)"),
-        "cd_tangential": Key("float", 0.008, 0.0, 10.0, "", "tangential drag coefficient (on pi d l)"),
-        "ca_normal": Key("float", 1.0, 0.0, 10.0, "", "added-mass coefficient"),
-        "EA": Key("float", 0.0, 0.0, 1e12, "N", "axial stiffness; 0: inextensible"),
-        "EI": Key("float", 0.0, 0.0, 1e9, "N m^2", "bending stiffness"),
-        "seabed_friction": Key("float", 0.5, 0.0, 5.0, "", "Coulomb friction of the tether on the seabed"),
-        "rated_load": Key("float", INF, 0.0, INF, "N", "breaking/rated load; a run stops above it"),
-    },
-    "ship": {
-        "mode": Key("str", "fixed", doc="fixed (dynamic positioning), follow (keeps offset from the robot) or "
-                    "waypoints", choices=("fixed", "follow", "waypoints")),
-        "position": Key("vec2", (0.0, 0.0), -1e6, 1e6, "m", "start position (x, y) at the surface"),
-        "offset": Key("vec2", (-50.0, 0.0), -1e6, 1e6, "m", "follow: ship position minus robot position (x, y)"),
-        "waypoints": Key("table", None, -1e6, 1e6, "m", "waypoints: list of (x, y)"),
-        "speed": Key("float", 1.0, 0.0, 20.0, "m/s", "waypoints / follow: top speed", knots=True),
-        "heave_amplitude": Key("float", 0.0, 0.0, 20.0, "m", "heave of the fairlead (sinusoid)"),
-        "heave_period": Key("float", 8.0, 0.5, 100.0, "s", "heave period"),
-    },
-    "winch": {
-        "mode": Key("str", "fixed", doc="fixed, constant, follow, tension, external or free",
-                    choices=("fixed", "constant", "follow", "tension", "external", "free")),
-        "min_length": Key("float", 0.0, 0.0, 1e5, "m", "shortest deployed length"),
-        "max_length": Key("float", 0.0, 0.0, 1e5, "m", "longest deployed length: cable up to it waits on the drum (0: "
-                          "the initial length for a fixed winch, twice it otherwise)"),
-        "rate": Key("float", 0.0, -10.0, 10.0, "m/s", "constant: payout rate (negative reels in)"),
-        "max_rate": Key("float", 2.0, 1e-3, 10.0, "m/s", "fastest payout or reel-in"),
-        "max_accel": Key("float", 0.2, 1e-3, 10.0, "m/s^2", "fastest change of the payout rate"),
-        "band": Key("vec2", (0.0, 1e9), 0.0, INF, "N", "tension: keep the ship-end tension inside (low, high)"),
-        "drum_damping": Key("float", 200.0, 1e-3, 1e9, "N s/m", "free: tension per unit payout rate"),
-    },
-    "robot": {
-        "type": Key("str", "walker", doc="walker (the hexapod of assets/walker) or anchor (a fixed tow point)",
-                    choices=("walker", "anchor")),
-        "position": Key("vec3", None, -1e6, 1e6, "m", "anchor: tow point (x, y, z)"),
-        "start": Key("vec2", (60.0, 0.0), -1e6, 1e6, "m", "walker: start position (x, y) on the seabed"),
-        "heading": Key("float", 0.0, -2 * math.pi, 2 * math.pi, "rad", "walker: start heading, from +x towards +y"),
-        "commands": Key("table", [[0.0, 0.3, 0.0]], -1e6, 1e6, "s, m/s, rad/s",
-                        "walker: schedule of (time, forward speed, turn rate), each held until the next"),
-        "gait_period": Key("float", 1.2, 0.4, 5.0, "s", "walker: tripod gait cycle"),
-    },
-}
-
-SECTIONS_REQUIRED_KEYS = {("robot", "position")}  # (for an anchor)
+    def _check(self):
+        if self.output_interval < self.timestep:
+            self._bad("output_interval", f"must be >= simulation.timestep ({self.timestep:g} s)")
+        if self.duration < self.timestep:
+            self._bad("duration", f"must be at least one simulation.timestep ({self.timestep:g} s)")
 
 
-class ScenarioError(ValueError):
-    """A scenario file is wrong: names the file, the key and what is allowed."""
+@dataclass(frozen=True)
+class Density(Section):
+    PATH = "water.density"
+    type: str = param("constant", doc="constant, linear or table", choices=("constant", "linear", "table"))
+    rho: float = param(1025.0, 900.0, 1100.0, "kg/m^3", "constant: the density")
+    rho_surface: float = param(1025.0, 900.0, 1100.0, "kg/m^3", "linear: density at z = 0")
+    rho_ref: float = param(980.0, 900.0, 1100.0, "kg/m^3", "linear: density at depth_ref")
+    depth_ref: float = param(500.0, 0.1, 12000.0, "m", "linear: depth of rho_ref")
+    depths: tuple | None = param(None, 0.0, 12000.0, "m", "table: depths, strictly increasing", kind="list")
+    values: tuple | None = param(None, 900.0, 1100.0, "kg/m^3", "table: densities", kind="list")
+
+    def _check(self):
+        if self.type == "table":
+            _check_table(self, ("values",))
 
 
-def _check_value(where: str, key: Key, value):
-    def bad(msg):
-        raise ScenarioError(f"{where}: {msg}")
+@dataclass(frozen=True)
+class Current(Section):
+    PATH = "water.current"
+    type: str = param("constant", doc="constant, linear, exponential, power or table",
+                      choices=("constant", "linear", "exponential", "power", "table"))
+    speed: float = param(0.0, 0.0, 10.0, "m/s", "constant: speed", knots=True)
+    surface_speed: float = param(0.0, 0.0, 10.0, "m/s", "linear/exponential/power: speed at z = 0", knots=True)
+    bottom_speed: float = param(0.0, 0.0, 10.0, "m/s", "linear: speed at bottom_depth", knots=True)
+    bottom_depth: float = param(100.0, 0.1, 12000.0, "m", "linear: depth of bottom_speed")
+    decay_depth: float = param(15.0, 0.01, 12000.0, "m", "exponential: e-folding depth")
+    exponent: float = param(1 / 7, 0.0, 2.0, "", "power: exponent (profile zero at the seabed)")
+    heading_deg: float = param(0.0, -360.0, 360.0, "deg", "direction the current flows to, from +x towards +y")
+    depths: tuple | None = param(None, 0.0, 12000.0, "m", "table: depths, strictly increasing", kind="list")
+    speeds: tuple | None = param(None, 0.0, 10.0, "m/s", "table: speeds", kind="list")
+    headings_deg: tuple | None = param(None, -360.0, 360.0, "deg", "table: headings (default all 0)", kind="list")
 
-    def number(v, what="a number"):
-        if isinstance(v, bool) or not isinstance(v, (int, float)):
-            bad(f"must be {what}, got {v!r}")
-        x = float(v)
-        if not math.isfinite(x) and not (x == INF and key.hi == INF):
-            bad(f"must be finite, got {v!r}")
-        if not key.lo <= x <= key.hi:
-            bad(f"must be in [{key.lo:g}, {key.hi:g}]{(' ' + key.unit) if key.unit else ''}, got {v!r}")
-        return x
-
-    t = key.type
-    if t == "float":
-        return number(value)
-    if t == "int":
-        if isinstance(value, bool) or not isinstance(value, int):
-            bad(f"must be an integer, got {value!r}")
-        return int(number(value, "an integer"))
-    if t == "str":
-        if not isinstance(value, str):
-            bad(f"must be a string, got {value!r}")
-        if key.choices and value not in key.choices:
-            bad(f"must be one of {', '.join(key.choices)}; got {value!r}")
-        return value
-    if t in ("vec2", "vec3"):
-        n = 2 if t == "vec2" else 3
-        if not isinstance(value, (list, tuple)) or len(value) != n:
-            bad(f"must be a list of {n} numbers, got {value!r}")
-        return tuple(number(v, "numbers") for v in value)
-    if t == "table":
-        if not isinstance(value, list) or not value:
-            bad(f"must be a non-empty list, got {value!r}")
-        return [tuple(number(x) for x in v) if isinstance(v, list) else number(v) for v in value]
-    raise AssertionError(t)
+    def _check(self):
+        if self.type == "table":
+            _check_table(self, ("speeds", "headings_deg"))
 
 
-def load_scenario(path=None, text: str | None = None, data: dict | None = None, name: str | None = None) -> dict:
-    """Read and check a scenario from a TOML file ``path``, TOML ``text`` or ``data`` (the nested
-    dict TOML would give, e.g. built by a Gymnasium environment); returns ``{section: {key:
-    value}}`` with every default filled in (SI units). ``name`` labels errors. With no source,
-    every key takes its default."""
+def _check_table(s: Section, columns) -> None:
+    """A depth table: ``depths`` and its first column given, depths strictly increasing, every
+    given column as long as ``depths``."""
+    for k in ("depths", columns[0]):
+        if getattr(s, k) is None:
+            raise ConfigError(f"{s.PATH}.{k} is required when {s.PATH}.type = 'table'", f"{s.PATH}.{k}")
+    d = s.depths
+    if any(b <= a for a, b in zip(d, d[1:])):
+        s._bad("depths", "must be strictly increasing (m)")
+    for k in columns:
+        if getattr(s, k) is not None and len(getattr(s, k)) != len(d):
+            s._bad(k, f"must have as many rows as {s.PATH}.depths ({len(d)})")
+
+
+@dataclass(frozen=True)
+class Water(Section):
+    PATH = "water"
+    depth: float = param(200.0, 0.1, 12000.0, "m", "seabed depth (positive)")
+    seabed_friction: float = param(0.6, 0.0, 5.0, "", "Coulomb friction of the seabed (robot feet)")
+    seabed_slope_deg: float = param(0.0, 0.0, 30.0, "deg", "seabed slope; depth is the depth at x = y = 0")
+    seabed_slope_heading_deg: float = param(0.0, -360.0, 360.0, "deg",
+                                            "direction in which the seabed rises, from +x towards +y")
+    density: Density = section(Density)
+    current: Current = section(Current)
+
+    def seabed_z(self, x: float, y: float) -> float:
+        """Height (m) of the seabed at (x, y) m."""
+        h = math.radians(self.seabed_slope_heading_deg)
+        return -self.depth + math.tan(math.radians(self.seabed_slope_deg)) * (x * math.cos(h) + y * math.sin(h))
+
+
+@dataclass(frozen=True)
+class Tether(Section):
+    PATH = "tether"
+    length: float = param(300.0, 0.1, MAX_LENGTH, "m", "initial deployed (unstretched) length")
+    segments: int = param(TetherSpec.segments, 4, MAX_SEGMENTS, "", "number of elements N (fewer than 4 cannot represent the sag: the "
+                          "lumped line's error is O(1/N^2))")
+    diameter: float = param(TetherSpec.diameter, 1e-4, 2.0, "m", "hydrodynamic and buoyancy diameter")
+    density: float = param(1050.0, 1.0, 20000.0, "kg/m^3", "bulk density (or give mass_per_length)")
+    mass_per_length: float = param(0.0, 0.0, 1e4, "kg/m", "mass per metre in air; 0: use density")
+    cd_normal: float = param(TetherSpec.cd_normal, 0.0, 10.0, "", "normal drag coefficient (on d l)")
+    cd_tangential: float = param(TetherSpec.cd_tangential, 0.0, 10.0, "", "tangential drag coefficient (on pi d l)")
+    ca_normal: float = param(TetherSpec.ca_normal, 0.0, 10.0, "", "added-mass coefficient")
+    EA: float = param(0.0, 0.0, 1e12, "N", "axial stiffness; 0: inextensible")
+    EI: float = param(TetherSpec.EI, 0.0, 1e9, "N m^2", "bending stiffness")
+    seabed_friction: float = param(0.5, 0.0, 5.0, "", "Coulomb friction of the tether on the seabed")
+    rated_load: float = param(INF, 0.0, INF, "N", "breaking/rated load; a run stops above it")
+
+
+@dataclass(frozen=True)
+class Ship(Section):
+    PATH = "ship"
+    mode: str = param("fixed", doc="fixed (dynamic positioning), follow (keeps offset from the robot) or waypoints",
+                      choices=("fixed", "follow", "waypoints"))
+    position: tuple = param((0.0, 0.0), -1e6, 1e6, "m", "start position (x, y) at the surface", kind="vec2")
+    offset: tuple = param((-50.0, 0.0), -1e6, 1e6, "m", "follow: ship position minus robot position (x, y)",
+                          kind="vec2")
+    waypoints: tuple | None = param(None, -1e6, 1e6, "m", "waypoints: list of [x, y]", kind="rows2")
+    speed: float = param(1.0, 0.0, 20.0, "m/s", "waypoints / follow: top speed", knots=True)
+    heave_amplitude: float = param(0.0, 0.0, 20.0, "m", "heave of the fairlead (sinusoid)")
+    heave_period: float = param(8.0, 0.5, 100.0, "s", "heave period")
+
+    def _check(self):
+        if self.mode == "waypoints" and self.waypoints is None:
+            raise ConfigError("ship.waypoints is required when ship.mode = 'waypoints': a list of [x, y] in m",
+                              "ship.waypoints")
+
+
+@dataclass(frozen=True)
+class Winch(Section):
+    PATH = "winch"
+    mode: str = param(_Winch.mode, doc="fixed, constant, follow, tension, external or free (see mjtether.winch)",
+                      choices=WINCH_MODES)
+    min_length: float = param(_Winch.min_length, 0.0, MAX_LENGTH, "m", "shortest deployed length")
+    max_length: float = param(0.0, 0.0, MAX_LENGTH, "m", "longest deployed length: cable up to it waits on the drum (0: "
+                              "the initial length for a fixed winch, twice it otherwise)")
+    rate: float = param(_Winch.rate, -10.0, 10.0, "m/s", "constant: payout rate (negative reels in)")
+    max_rate: float = param(_Winch.max_rate, 1e-3, 10.0, "m/s", "fastest payout or reel-in")
+    max_accel: float = param(_Winch.max_accel, 1e-3, 10.0, "m/s^2", "fastest change of the payout rate")
+    band: tuple = param((0.0, 1e9), 0.0, INF, "N", "tension: keep the ship-end tension inside (low, high)",
+                        kind="vec2")
+    drum_damping: float = param(_Winch.drum_damping, 1e-3, 1e9, "N s/m", "free: tension per unit payout rate")
+
+    def _check(self):
+        if self.band[0] >= self.band[1]:
+            self._bad("band", "must be (low, high) with low < high")
+        if abs(self.rate) > self.max_rate:
+            self._bad("rate", f"must be within +-winch.max_rate ({self.max_rate:g} m/s)")
+
+
+@dataclass(frozen=True)
+class Robot(Section):
+    PATH = "robot"
+    type: str = param("walker", doc="walker (the hexapod of assets/walker) or anchor (a fixed tow point)",
+                      choices=("walker", "anchor"))
+    position: tuple | None = param(None, -1e6, 1e6, "m", "anchor (required): tow point (x, y, z)", kind="vec3")
+    start: tuple = param((60.0, 0.0), -1e6, 1e6, "m", "walker: start position (x, y) on the seabed", kind="vec2")
+    heading_deg: float = param(0.0, -360.0, 360.0, "deg", "walker: start heading, from +x towards +y")
+    commands: tuple = param(((0.0, 0.3, 0.0),), -1e6, 1e6, "s, m/s, deg/s", "walker: schedule of [time, forward "
+                            "speed, turn rate], each held until the next", kind="rows3")
+    gait_period: float = param(1.2, 0.4, 5.0, "s", "walker: tripod gait cycle")
+
+    def _check(self):
+        if self.type == "anchor" and self.position is None:
+            raise ConfigError("robot.position is required for an anchor: [x, y, z] in m", "robot.position")
+        if self.type == "anchor" and self.position[2] > 0.0:
+            self._bad("position", "the tow point is above the water surface (z = 0); give z <= 0 m")
+        times = [c[0] for c in self.commands]
+        if times[0] != 0.0 or any(b <= a for a, b in zip(times, times[1:])):
+            self._bad("commands", "the times (first column, s) must start at 0 and increase")
+        top = Tripod.max_stride / (self.gait_period / 2)  # the tripod gait's longest stroke per half cycle
+        for t, v, turn in self.commands:
+            if not -top <= v <= top:
+                self._bad("commands", f"speed {v:g} m/s at t = {t:g} s: must be in [-{top:.2f}, {top:.2f}] m/s "
+                          f"(the walker's top speed at robot.gait_period = {self.gait_period:g} s)")
+            if not -MAX_TURN_DEG_S <= turn <= MAX_TURN_DEG_S:
+                self._bad("commands", f"turn rate {turn:g} deg/s at t = {t:g} s: must be in "
+                          f"[-{MAX_TURN_DEG_S:.1f}, {MAX_TURN_DEG_S:.1f}] deg/s")
+
+
+RENAMED.update({
+    "water.seabed_slope": "was in radians; give water.seabed_slope_deg (degrees)",
+    "water.seabed_slope_heading": "was in radians; give water.seabed_slope_heading_deg (degrees)",
+    "water.current.heading": "was in radians; give water.current.heading_deg (degrees)",
+    "water.current.headings": "was in radians; give water.current.headings_deg (degrees)",
+    "robot.heading": "was in radians; give robot.heading_deg (degrees; robot.commands turn rates are in deg/s)",
+})
+
+# ------------------------------------------------------------------ the whole scenario
+
+US_PER_STEP = (300.0, 1.3, 50.0)
+"""Cost model of one step on one core (us): fixed, per allocated tether element, walker. Fitted
+to steps of 60 to 2000 allocated elements on this project's 2-core CI machine (MuJoCo 4.0;
+measured 390-2900 us, the model within about 30 %); it only has to tell minutes from days."""
+
+
+@dataclass(frozen=True)
+class Scenario(Section):
+    """A whole run: ``Scenario()`` is the built-in defaults; see ``load_scenario``."""
+
+    PATH = ""
+    simulation: Simulation = section(Simulation)
+    water: Water = section(Water)
+    tether: Tether = section(Tether)
+    ship: Ship = section(Ship)
+    winch: Winch = section(Winch)
+    robot: Robot = section(Robot)
+
+    def __post_init__(self):
+        super().__post_init__()
+        if self.winch.max_length == 0.0:  # resolve the default: the drum holds L (fixed) or 2 L
+            L = self.tether.length
+            object.__setattr__(self, "winch", self.winch.replace(
+                max_length=L if self.winch.mode == "fixed" else min(2.0 * L, 1e5)))
+
+    def _check(self):
+        w, r, L = self.water, self.robot, self.tether.length
+
+        def bad(key, value, why):
+            raise ConfigError(f"{key} = {value}: {why}", key)
+
+        if r.type == "anchor":
+            x, y, z = r.position
+            if z < w.seabed_z(x, y) - 1e-6:
+                bad("robot.position", list(r.position), f"z = {z:g} m is below the seabed (z = {w.seabed_z(x, y):.2f} m "
+                    f"there; water.depth = {w.depth:g} m)")
+        elif w.seabed_z(*r.start) >= -1.0:
+            bad("robot.start", list(r.start), f"the seabed there is at z = {w.seabed_z(*r.start):.2f} m; the walker "
+                "needs at least 1 m of water")
+        if w.seabed_z(*self.ship.position) >= -1.0:
+            bad("ship.position", list(self.ship.position), f"the seabed there is at z = "
+                f"{w.seabed_z(*self.ship.position):.2f} m, above the surface or within 1 m of it")
+        wi = self.winch
+        hi = wi.max_length if wi.max_length > 0 else (L if wi.mode == "fixed" else 2 * L)
+        if not wi.min_length <= L <= hi:
+            bad("tether.length", L, f"must be in [winch.min_length, winch.max_length] = [{wi.min_length:g}, {hi:g}] m")
+        if wi.min_length >= hi:
+            bad("winch.min_length", wi.min_length, f"must be below winch.max_length ({hi:g} m)")
+        est = self.estimate(max_length=hi)
+        s = self.simulation
+        if est["wall_hours"] > s.max_wall_hours:
+            bad("simulation.duration", f"{s.duration:g} s", f"at simulation.timestep = {s.timestep:g} s that is "
+                f"{est['steps']:.3g} steps of about {est['us_per_step']:.0f} us, about {est['wall_hours']:.3g} h on one "
+                f"core: over simulation.max_wall_hours = {s.max_wall_hours:g} h (shorten the run, take longer steps, "
+                "use fewer tether.segments, or raise simulation.max_wall_hours)")
+        if est["output_gb"] > s.max_output_gb:
+            bad("simulation.output_interval", f"{s.output_interval:g} s", f"that is {est['samples']:.3g} samples of "
+                f"{est['elements']} elements, about {est['output_gb']:.3g} GB of results: over "
+                f"simulation.max_output_gb = {s.max_output_gb:g} GB (record less often, or raise it)")
+
+    def estimate(self, max_length: float | None = None) -> dict:
+        """What the run will cost: ``steps``, ``samples``, ``elements`` allocated (deployed
+        plus those waiting on the drum), ``us_per_step`` and ``wall_hours`` on one core (the
+        ``US_PER_STEP`` model), ``output_gb`` of recorded history (node positions, element
+        tensions and lengths as float64)."""
+        t, s = self.tether, self.simulation
+        max_length = self.winch.max_length if max_length is None else max_length
+        l0 = t.length / t.segments
+        elements = max(t.segments, int(math.ceil(max_length / l0 - 0.5)) + 1)  # builder.drum_capacity
+        steps = s.duration / s.timestep
+        samples = s.duration / s.output_interval + 1
+        a, b, walker = US_PER_STEP
+        us = a + b * elements + (walker if self.robot.type == "walker" else 0.0)
+        per_sample = 8 * (3 * (elements + 1) + 2 * elements + 32)
+        return {"steps": steps, "samples": samples, "elements": elements, "us_per_step": us,
+                "wall_hours": steps * us * 1e-6 / 3600.0, "output_gb": samples * per_sample / 1e9}
+
+
+# ------------------------------------------------------------------ reading
+
+
+def load_scenario(path=None, *, text: str | None = None, data: dict | None = None, name: str | None = None,
+                  overrides=()) -> Scenario:
+    """A checked ``Scenario`` from a TOML file ``path``, TOML ``text`` or ``data`` (the nested
+    dict TOML would give); with none of them, the defaults. ``overrides``: ``"key.path=value"``
+    strings (values in TOML syntax; a bare word is a string), applied before checking, as
+    ``mjtether run --set`` does. ``name`` labels errors (default: the file name)."""
     if name is None:
         name = str(path) if path is not None else "<text>" if text is not None else "<data>"
     if data is not None:
-        raw = data
+        raw = _copy_tree(data)
+    elif text is not None or path is not None:
+        raw = _parse(name, _read(name, path) if text is None else text)
     else:
-        if text is None and path is not None:
-            try:
-                text = Path(path).read_text()
-            except OSError as exc:
-                raise ScenarioError(f"{name}: cannot read the scenario ({exc.strerror})") from None
-        try:
-            raw = tomllib.loads(text or "")
-        except tomllib.TOMLDecodeError as exc:
-            raise ScenarioError(f"{name}: not valid TOML: {exc}") from None
-
-    out: dict[str, dict] = {}
-    flat: dict[str, dict] = {}
-    for top, val in raw.items():
-        if top not in {s.split(".")[0] for s in SCHEMA}:
-            raise ScenarioError(f"{name}: unknown section [{top}]; allowed: "
-                                f"{', '.join(sorted({s.split('.')[0] for s in SCHEMA}))}")
-        if not isinstance(val, dict):
-            raise ScenarioError(f"{name}: {top} must be a section [{top}], got {val!r}")
-        flat[top] = {k: v for k, v in val.items() if not isinstance(v, dict)}
-        for k, v in val.items():
-            if isinstance(v, dict):
-                if f"{top}.{k}" not in SCHEMA:
-                    raise ScenarioError(f"{name}: unknown section [{top}.{k}]")
-                flat[f"{top}.{k}"] = v
-    for section, keys in SCHEMA.items():
-        given = dict(flat.get(section, {}))
-        vals = {}
-        for k, v in given.items():
-            base = k[:-3] if k.endswith("_kn") else k
-            key = keys.get(base)
-            if key is None or (k != base and not key.knots):
-                raise ScenarioError(f"{name}: unknown key {section}.{k}; allowed: {', '.join(sorted(keys))}")
-            if base in vals:
-                raise ScenarioError(f"{name}: {section}.{base} is given twice (m/s and knots)")
-            if k != base:
-                v = v * KNOT if isinstance(v, (int, float)) and not isinstance(v, bool) else v
-            vals[base] = _check_value(f"{name}: {section}.{base}", key, v)
-        for k, key in keys.items():
-            if k not in vals:
-                vals[k] = key.default
-        out[section] = vals
-    _cross_checks(name, out)
-    return out
+        raw = {}
+    for item in overrides:
+        _override(raw, item)
+    return build(Scenario, raw, name)
 
 
-def _cross_checks(name: str, sc: dict) -> None:
-    def bad(msg):
-        raise ScenarioError(f"{name}: {msg}")
-
-    w = sc["water"]
-    robot = sc["robot"]
-
-    def seabed_z(x, y):
-        along = x * math.cos(w["seabed_slope_heading"]) + y * math.sin(w["seabed_slope_heading"])
-        return -w["depth"] + math.tan(w["seabed_slope"]) * along
-
-    if robot["type"] == "anchor":
-        if robot["position"] is None:
-            bad("robot.position is required for an anchor: (x, y, z) in m")
-        x, y, z = robot["position"]
-        if z < seabed_z(x, y) - 1e-6:
-            bad(f"robot.position z = {z} m is below the seabed (z = {seabed_z(x, y):.2f} m there)")
-    elif seabed_z(*robot["start"]) >= -1.0:
-        bad(f"robot.start {list(robot['start'])} is where the seabed is {seabed_z(*robot['start']):.2f} m "
-            "high: the walker needs at least 1 m of water")
-    if robot["type"] == "walker":
-        cmds = robot["commands"]
-        if any(not isinstance(c, tuple) or len(c) != 3 for c in cmds):
-            bad("robot.commands must be a list of [time (s), speed (m/s), turn rate (rad/s)]")
-        times = [c[0] for c in cmds]
-        if times[0] != 0.0 or any(b <= a for a, b in zip(times, times[1:])):
-            bad(f"robot.commands times must start at 0 s and increase, got {times}")
-        top = Tripod.max_stride / (robot["gait_period"] / 2)  # the tripod gait's longest stroke per half cycle
-        for t, v, turn in cmds:
-            if not -top <= v <= top:
-                bad(f"robot.commands speed must be in [-{top:.2f}, {top:.2f}] m/s (the walker's top speed at "
-                    f"gait_period = {robot['gait_period']:g} s), got {v} at t = {t} s")
-            if not -0.5 <= turn <= 0.5:
-                bad(f"robot.commands turn rate must be in [-0.5, 0.5] rad/s, got {turn} at t = {t} s")
-    if seabed_z(*sc["ship"]["position"]) >= -1.0:
-        bad(f"ship.position {list(sc['ship']['position'])}: the seabed there is {seabed_z(*sc['ship']['position']):.2f} m "
-            "high, above the surface or within 1 m of it")
-    for sec, keys in (("water.density", ("depths", "values")), ("water.current", ("depths", "speeds"))):
-        if sc[sec]["type"] == "table":
-            for k in keys:
-                if sc[sec][k] is None:
-                    bad(f"{sec}.{k} is required when {sec}.type = 'table'")
-            d = sc[sec]["depths"]
-            if any(b <= a for a, b in zip(d, d[1:])):
-                bad(f"{sec}.depths must be strictly increasing (m), got {d}")
-            if len(sc[sec][keys[1]]) != len(d) or (sec == "water.current" and sc[sec]["headings"] is not None
-                                                      and len(sc[sec]["headings"]) != len(d)):
-                bad(f"{sec}: every column must have as many rows as depths ({len(d)})")
-    w = sc["winch"]
-    L = sc["tether"]["length"]
-    if w["max_length"] == 0.0:
-        w["max_length"] = L if w["mode"] == "fixed" else 2.0 * L
-    if not w["min_length"] <= L <= w["max_length"]:
-        bad(f"tether.length = {L} m must be in [winch.min_length, winch.max_length] = "
-            f"[{w['min_length']}, {w['max_length']}] m")
-    if w["band"][0] >= w["band"][1]:
-        bad(f"winch.band must be (low, high) with low < high, got {w['band']}")
-    if sc["ship"]["mode"] == "waypoints" and not sc["ship"]["waypoints"]:
-        bad("ship.waypoints is required when ship.mode = 'waypoints': a list of (x, y) in m")
-    if sc["simulation"]["output_interval"] < sc["simulation"]["timestep"]:
-        bad("simulation.output_interval must be >= simulation.timestep")
+def _read(name: str, path) -> str:
+    """The file's text: UTF-8 as TOML requires (a byte-order mark is allowed); any other
+    encoding is an error that says how to fix it."""
+    p = Path(path)
+    if p.is_dir():
+        raise ScenarioError(f"{name}: is a folder; give a scenario .toml file")
+    try:
+        raw = p.read_bytes()
+    except OSError as exc:
+        raise ScenarioError(f"{name}: cannot read the scenario ({exc.strerror})") from None
+    if raw.startswith((b"\xff\xfe", b"\xfe\xff")):
+        raise ScenarioError(f"{name}: is UTF-16 text; TOML files must be UTF-8 (save it as UTF-8)")
+    try:
+        return raw.decode("utf-8-sig")
+    except UnicodeDecodeError as exc:
+        line = raw[:exc.start].count(b"\n") + 1
+        raise ScenarioError(f"{name}: line {line}: byte 0x{raw[exc.start]:02x} is not UTF-8; TOML files must be "
+                            "UTF-8 (save it as UTF-8, e.g. iconv -f latin1 -t utf-8)") from None
 
 
-def scenario_docs() -> str:
-    """Markdown reference of every key (the body of docs/scenarios.md)."""
-    lines = []
-    for section, keys in SCHEMA.items():
-        lines += [f"### [{section}]", "", "| key | type | default | allowed | unit | meaning |", "|---|---|---|---|---|---|"]
-        for k, key in keys.items():
-            if key.choices:
-                allowed = ", ".join(key.choices)
-            elif key.type in ("float", "int", "vec2", "vec3", "table"):
-                allowed = f"[{key.lo:g}, {key.hi:g}]"
-            else:
-                allowed = ""
-            name = f"`{k}`" + (f" or `{k}_kn` (knots)" if key.knots else "")
-            default = "required" if key.default is None and (section, k) in SECTIONS_REQUIRED_KEYS else (
-                "-" if key.default is None else f"`{key.default!r}`")
-            lines.append(f"| {name} | {key.type} | {default} | {allowed} | {key.unit} | {key.doc} |")
-        lines.append("")
-    return "\n".join(lines)
+def _parse(name: str, text: str) -> dict:
+    try:
+        return tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise ScenarioError(f"{name}: not valid TOML: {exc}") from None
+
+
+def _copy_tree(d):
+    return {k: _copy_tree(v) for k, v in d.items()} if isinstance(d, dict) else d
+
+
+def _override(raw: dict, item: str) -> None:
+    """Apply one ``key.path=value`` to the raw tree (the key is checked when the tree is built;
+    sections must exist in the schema)."""
+    key, sep, value = str(item).partition("=")
+    key = key.strip()
+    if not sep or not key or any(not p.strip() for p in key.split(".")):
+        raise ScenarioError(f"--set {item!r}: must be KEY=VALUE, e.g. simulation.duration=10")
+    try:
+        v = tomllib.loads(f"v = {value.strip()}")["v"]
+    except tomllib.TOMLDecodeError:
+        v = value.strip()  # a bare word: a string (e.g. simulation.start=settle)
+    *sections, leaf = [p.strip() for p in key.split(".")]
+    node, cls = raw, Scenario
+    for i, s in enumerate(sections):
+        subs = subsections(cls)
+        if s not in subs:
+            raise ScenarioError(f"--set {key}: {unknown_key_message(cls, s)}", key)
+        cls = subs[s]
+        nxt = node.setdefault(s, {})
+        if not isinstance(nxt, dict):
+            raise ScenarioError(f"--set {key}: {'.'.join(sections[:i + 1])} is not a section", key)
+        node = nxt
+    node[leaf] = v

@@ -518,6 +518,16 @@ class Simulation:
             raise ValueError(f"water must be a WaterColumn, got {type(water).__name__}")
         self.water = water
         self.model = dispatch.compile_spec(spec)
+        # buoyancy uses water.gravity, weight MuJoCo's option.gravity: they must be the same
+        g_model = np.array(self.model.opt.gravity, dtype=float)
+        disabled = bool(self.model.opt.disableflags & mujoco.mjtDisableBit.mjDSBL_GRAVITY)
+        g_eff = np.zeros(3) if disabled else g_model
+        if np.linalg.norm(g_eff - (0.0, 0.0, -water.gravity)) > 1e-9 * max(water.gravity, np.linalg.norm(g_eff)):
+            shown = ", ".join(f"{c:.12g}" for c in g_model)
+            raise ValueError(
+                f"WaterColumn.gravity = {water.gravity:.12g} m/s^2 differs from the model's option.gravity "
+                f"({shown}){' (disabled by option.disableflags: 0 in effect)' if disabled else ''}: buoyancy "
+                "and weight would not balance; set one to the other")
         self.data = mujoco.MjData(self.model)
         self.tethers = {}
         for tm in tethers:

@@ -14,6 +14,13 @@ from dataclasses import dataclass
 from . import _checks
 
 
+MAX_LENGTH = 1e5
+"""Longest tether (m): 100 km."""
+MAX_SEGMENTS = 5000
+"""Most elements a tether may have (one MuJoCo body per node; the run costs about 1 us per element
+and step, and MuJoCo's arena runs out in the tens of thousands)."""
+
+
 @dataclass(frozen=True)
 class TetherSpec:
     """A uniform tether.
@@ -35,7 +42,7 @@ class TetherSpec:
     """
 
     length: float
-    segments: int = 50
+    segments: int = 60
     diameter: float = 0.02
     density: float | None = None
     mass_per_length: float | None = None
@@ -47,8 +54,10 @@ class TetherSpec:
     axial_damping_ratio: float = 1.0
 
     def __post_init__(self):
-        _checks.positive("tether.length", self.length, "m")
+        _checks.in_range("tether.length", self.length, 1e-3, MAX_LENGTH, "m")
         _checks.positive_int("tether.segments", self.segments, 1)
+        if self.segments > MAX_SEGMENTS:
+            raise ValueError(f"tether.segments must be an integer in [1, {MAX_SEGMENTS}], got {self.segments!r}")
         _checks.positive("tether.diameter", self.diameter, "m")
         if self.density is not None and self.mass_per_length is not None:
             raise ValueError("tether: give either density or mass_per_length, not both")

@@ -1,6 +1,8 @@
 """The hexapod seabed walker: model loading, hydrodynamics and a tripod gait.
 
-The MJCF is ``assets/walker/walker.xml`` (``scene.xml`` stands it on a seabed). ``Tripod``
+The MJCF is ``assets/walker/walker.xml`` (``scene.xml`` stands it on a seabed), installed as the
+package data ``mjtether.assets`` (see pyproject.toml) and found through ``importlib.resources``
+so that it works from a wheel as well as from the source tree. ``Tripod``
 turns a commanded forward speed v (m/s, body x) and turn rate w (rad/s, about z) into the 18
 joint targets of the position actuators: legs {lf, rm, lr} and {rf, lm, rr} alternate between
 stance, where each foot moves in the body frame at -(v x + w z x p) so that the body moves at
@@ -13,6 +15,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from importlib.resources import files
 from pathlib import Path
 
 import mujoco
@@ -20,7 +23,23 @@ import numpy as np
 
 from .rigidbody import RigidBodyHydro
 
-ASSETS = Path(__file__).resolve().parents[1] / "assets" / "walker"
+
+def _assets() -> Path:
+    """The folder of the walker's MJCF files: ``mjtether/assets/walker`` of an installed wheel
+    (real files, as MjSpec.from_file needs), else ``assets/walker`` of the source tree. The
+    latter serves editable installs: setuptools' editable finder cannot import ``mjtether.assets``
+    because the folder has no ``__init__.py``."""
+    try:
+        return Path(str(files("mjtether.assets") / "walker"))
+    except ModuleNotFoundError:
+        src = Path(__file__).resolve().parents[1] / "assets" / "walker"
+        if (src / "walker.xml").is_file():
+            return src
+        raise FileNotFoundError("mjtether: the walker MJCF (package data mjtether.assets) is not installed; "
+                                "reinstall mjtether") from None
+
+
+ASSETS = _assets()
 LEGS = ("lf", "lm", "lr", "rf", "rm", "rr")
 TRIPOD_A = ("lf", "rm", "lr")
 COXA, FEMUR, TIBIA = 0.15, 0.5, 0.8  # link lengths (m); the foot sphere centre ends the tibia

@@ -125,7 +125,11 @@ class Winch:
     def advance(self, dt: float, t: float, tension: float, robot_speed: float = 0.0) -> float:
         """Integrate the deployed length over ``dt`` (s); returns the new length (m).
         ``tension``: the ship-end tension (N); ``robot_speed``: the robot's velocity along the
-        cable, away from the ship (m/s; ``"follow"`` mode)."""
+        cable, away from the ship (m/s; ``"follow"`` mode). A step that is not a positive
+        number, or a non-finite tension or speed, is a ValueError: it would make the length NaN."""
+        _checks.positive("winch.advance dt", dt, "s")
+        tension = _checks.finite("winch.advance tension", tension)
+        robot_speed = _checks.finite("winch.advance robot_speed", robot_speed)
         if self.mode == "tension":
             self._tension = tension if self._tension is None else \
                 self._tension + min(dt / TENSION_FILTER_S, 1.0) * (tension - self._tension)

@@ -25,7 +25,7 @@ from mjtether.runner import ScenarioRun, run
 from mjtether.scenario import load_scenario
 
 
-def render_fps(sc: dict, settings: VideoSettings, frames: int, folder: Path) -> float:
+def render_fps(sc, settings: VideoSettings, frames: int, folder: Path) -> float:
     r = ScenarioRun(sc)
     try:
         rec = VideoRecorder(r, folder / "probe.mp4", settings)
@@ -45,8 +45,8 @@ def render_fps(sc: dict, settings: VideoSettings, frames: int, folder: Path) -> 
     return 1.0 / float(np.median(times))
 
 
-def video_fps(sc: dict, settings: VideoSettings, folder: Path) -> float:
-    sc = dict(sc, simulation=dict(sc["simulation"], duration=4.0))
+def video_fps(sc, settings: VideoSettings, folder: Path) -> float:
+    sc = sc.replace(simulation=sc.simulation.replace(duration=4.0))
     t0 = time.perf_counter()
     _, _, info = run(sc, keep_nodes=False, video=lambda r: VideoRecorder(r, folder / "v.mp4", settings))
     return info["video"]["frames"] / (time.perf_counter() - t0)
@@ -59,10 +59,8 @@ def main(argv=None):
     ap.add_argument("--camera", default="side")
     ap.add_argument("--json", action="store_true")
     args = ap.parse_args(argv)
-    sc = load_scenario(DEFAULT_SCENARIO)
-    if args.segments:
-        sc["tether"]["segments"] = args.segments
-    out = {"width": 640, "height": 480, "camera": args.camera, "segments": sc["tether"]["segments"]}
+    sc = load_scenario(DEFAULT_SCENARIO, overrides=[f"tether.segments={args.segments}"] if args.segments else ())
+    out = {"width": 640, "height": 480, "camera": args.camera, "segments": sc.tether.segments}
     with tempfile.TemporaryDirectory() as tmp:
         for label, tuned in (("default", False), ("tuned", True)):
             s = VideoSettings(640, 480, 30.0, args.camera, tuned=tuned)

@@ -25,10 +25,8 @@ COL = {name: k for k, (name, _, _) in enumerate(RECORD_FIELDS)}
 
 
 def _run(path: str, duration: float, timestep: float | None = None):
-    sc = load_scenario(path)
-    sc["simulation"]["duration"] = duration
-    if timestep:
-        sc["simulation"]["timestep"] = timestep
+    sets = [f"simulation.duration={duration!r}"] + ([f"simulation.timestep={timestep!r}"] if timestep else [])
+    sc = load_scenario(path, overrides=sets)
     rows, _, info = run(sc, keep_nodes=False)
     return sc, rows, info
 
@@ -50,8 +48,8 @@ def main(argv=None):
     ap.add_argument("--json", action="store_true")
     args = ap.parse_args(argv)
     sc, rows, info = _run(args.scenario, args.duration)
-    dt = sc["simulation"]["timestep"]
-    out = {"scenario": args.scenario, "segments": sc["tether"]["segments"], "timestep": dt,
+    dt = sc.simulation.timestep
+    out = {"scenario": args.scenario, "segments": sc.tether.segments, "timestep": dt,
            "simulated_s": info["simulated_s"], "wall_s": round(info["wall_time_s"], 2),
            "realtime_factor": round(info["realtime_factor"], 2)}
     if args.check:

@@ -94,7 +94,7 @@ def test_line_across_a_current_blows_up_at_twice_the_answer():
 
 WALKER = {
     "simulation": {"duration": 10.0, "timestep": 0.005, "output_interval": 0.5},
-    "water": {"depth": 50.0, "current": {"type": "constant", "speed": 1.0, "heading": math.pi / 2}},
+    "water": {"depth": 50.0, "current": {"type": "constant", "speed": 1.0, "heading_deg": 90.0}},
     "tether": {"length": 80.0, "segments": 32, "diameter": 0.005, "density": 1500.0, "EA": 1e5},
     "ship": {"mode": "fixed", "position": [0.0, 0.0]},
     "winch": {"mode": "fixed"},
@@ -108,8 +108,7 @@ below the walker's own (``stability.WALKER_MAX_TIMESTEP``), so the step is the t
 def _walk(dt, duration=10.0):
     """Run ``WALKER`` at ``dt``; returns (walker's distance along x, mean ship-end tension over
     each half second)."""
-    sc = load_scenario(data=copy.deepcopy(WALKER))
-    sc["simulation"]["timestep"] = dt
+    sc = load_scenario(data=copy.deepcopy(WALKER), overrides=[f"simulation.timestep={dt!r}"])
     run = ScenarioRun(sc)
     try:
         x0 = run.robot_state()[0][0]

@@ -49,7 +49,7 @@ def test_every_example_starts_from_a_steady_state_and_upright(path):
     within 2 deg of upright (relative to the seabed, which may slope) and of its commanded
     heading at every sample (0.5 s) of the first 5 s. (Measured: at most 0.2 deg and 0.3 deg.)"""
     sc = load_scenario(path)
-    if sc["robot"]["type"] != "walker":
+    if sc.robot.type != "walker":
         run = ScenarioRun(sc)
         note = run.initial_note
         run.close()
@@ -85,9 +85,9 @@ def test_follow_winch_does_not_pay_out_for_a_standing_walker():
     """The built-in scenario with the walker standing still (speed 0, stepping in place) and the
     winch following it: over 60 s the deployed length changes by less than 1/60 m, i.e. less than
     the issue's 1 m per hour (the old winch paid out on the gait's jitter, 40 m per hour)."""
-    sc = load_scenario(Path(__file__).resolve().parents[1] / "mjtether" / "scenarios" / "default.toml")
-    assert sc["winch"]["mode"] == "follow"
-    sc["robot"]["commands"] = [(0.0, 0.0, 0.0)]
+    sc = load_scenario(Path(__file__).resolve().parents[1] / "mjtether" / "scenarios" / "default.toml",
+                       overrides=["robot.commands=[[0.0, 0.0, 0.0]]"])
+    assert sc.winch.mode == "follow"
     run = ScenarioRun(sc)
     try:
         start = run.winch.length
