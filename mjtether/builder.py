@@ -257,6 +257,8 @@ class TetherModel:
     initial_nodes: np.ndarray  # (n+1, 3), parked nodes at the start anchor
     connects: dict = field(default_factory=dict)  # "end" -> equality name; "start": one per node
     max_length: float = 0.0
+    seabed_friction: float | None = None  # Coulomb coefficient on the seabed; None: no contact
+    userdata_adr: int = -1  # where the nodes' stick points (3 per node) start in MuJoCo's userdata
 
     @property
     def flex(self) -> str:
@@ -390,9 +392,11 @@ def add_tether(
     else:  # touches only geoms with the seabed bit in their conaffinity (see add_seabed)
         flex.contype = TETHER_CONTACT_BIT
         flex.conaffinity = 0
-        flex.priority = 1  # the tether's friction, not the seabed geom's, sets the contact
-        flex.condim = 3 if seabed_friction > 0 else 1  # (zero friction in a cone is degenerate)
-        flex.friction = [float(seabed_friction), 0.005, 0.0001]
+        # the contact carries the normal force only; friction is mjtether.seabed's stick-point
+        # Coulomb model (MuJoCo's soft friction creeps under a steady load), applied by
+        # BoundTether with its stick points in MuJoCo's userdata
+        flex.priority = 1  # the tether's settings, not the seabed geom's, set the contact
+        flex.condim = 1
         flex.margin = 0.0
         flex.solref = [2 * dt, 1.0]
         flex.solimp = [0.99, 0.999, 0.001, 0.5, 2.0]
@@ -412,7 +416,10 @@ def add_tether(
 
     tm = TetherModel(name=name, spec=tether, start=start, end=end, node_bodies=body_names, n=n, first=first,
                      nominal_length=l0, initial_nodes=all_nodes,
-                     max_length=float(max(L, max_length or 0.0)))
+                     max_length=float(max(L, max_length or 0.0)), seabed_friction=seabed_friction)
+    if seabed_friction is not None:  # the nodes' stick points on the seabed (see mjtether.seabed)
+        tm.userdata_adr = spec.nuserdata
+        spec.nuserdata += 3 * (n + 1)
 
     def connect(name_, site1, site2, active):
         c = spec.add_equality(name=name_, type=mujoco.mjtEq.mjEQ_CONNECT, objtype=mujoco.mjtObj.mjOBJ_SITE,

@@ -250,6 +250,8 @@ class ScenarioRun:
                                      max_length=self.winch.max_length, end_at=robot if self.walker else None)
         self.sim = Simulation(spec, self.water, tethers=[self.tm], bodies=bodies)
         try:
+            if self.initial is not None:  # the steady state's seabed friction, carried into the run
+                self.sim.tether().preload_friction(self.sim.data, self.initial.tension)
             self._start(sc, dt, settle)
         except BaseException:
             self.sim.close()  # a run that cannot start leaves nothing registered
@@ -396,8 +398,9 @@ class ScenarioRun:
         """``initial_state`` for the scenario's tether, with retries: the laid part's tension
         has a kink where seabed friction takes it all, and a coarse tether's touchdown jumps
         from element to element; either can stall Newton. So: as given; with 4N elements,
-        keeping every 4th node (the same material points); then both without friction
-        (MuJoCo's soft friction does not hold a laid tension gradient for long anyway).
+        keeping every 4th node (the same material points); then both without friction (the
+        run then starts with the friction the laid cable's geometry needs, up to mu w: see
+        ``BoundTether.preload_friction``).
         Returns (state, note) or (None, why)."""
         cb = self.sc.tether.seabed_friction
         spec = self.tether_spec if length is None else replace(self.tether_spec, length=length)

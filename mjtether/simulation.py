@@ -14,9 +14,10 @@ import mujoco
 import numpy as np
 
 from . import dispatch
-from .builder import TetherModel, axial_params, axial_scalar
+from .builder import TETHER_CONTACT_BIT, TetherModel, axial_params, axial_scalar
 from .hydro import bending_forces, element_geometry, tether_loads
 from .rigidbody import BodyHydroModel, BoundBodyHydro, make_not_simple
+from .seabed import STICK_DAMPING, STICK_STIFFNESS, seabed_friction
 from .water import WaterColumn
 
 
@@ -116,6 +117,7 @@ class BoundTether:
         self._ca_A = s.ca_normal * s.area
         # pushes and overshoots below this (N) switch elements without redoing the step
         self._f_min = max(SLACK_FORCE * abs(s.wet_weight_per_length(float(water.rho([0.0])[0]))) * self.l0, 1e-6)
+        self._seabed = self._find_seabed(model, tm)
         self._relayout()
 
     # ----------------------------------------------------------------- layout of the cable
@@ -373,11 +375,73 @@ class BoundTether:
 
     # ----------------------------------------------------------------- forces
 
+    def _find_seabed(self, model: mujoco.MjModel, tm: TetherModel):
+        """The seabed plane the tether rests on, for its friction (``mjtether.seabed``): (a point
+        on it, its unit normal, the cable's submerged weight per metre there (N/m) times the
+        cosine of its slope), or None for a tether without seabed contact. The stick points live
+        in ``data.userdata``, NaN (off the seabed) at the start."""
+        if not tm.seabed_friction or tm.userdata_adr < 0:  # (no friction: MuJoCo's contact is all)
+            return None
+        planes = [g for g in range(model.ngeom) if model.geom_type[g] == mujoco.mjtGeom.mjGEOM_PLANE
+                  and model.geom_conaffinity[g] & TETHER_CONTACT_BIT and model.geom_bodyid[g] == 0]
+        if not planes:
+            return None
+        if len(planes) > 1:
+            raise ValueError("a tether with seabed_friction rests on one seabed plane; the model has "
+                             f"{len(planes)} (geoms {planes})")
+        g = planes[0]
+        R = np.zeros(9)
+        mujoco.mju_quat2Mat(R, model.geom_quat[g])
+        normal = R.reshape(3, 3)[:, 2].copy()
+        point = model.geom_pos[g].copy()
+        rho = float(self.water.rho([point[2]])[0])
+        w = self.spec.wet_weight_per_length(rho, self.water.gravity) * normal[2]
+        self._stick = slice(tm.userdata_adr, tm.userdata_adr + 3 * (self.n + 1))
+        self.data.userdata[self._stick] = np.nan
+        return point, normal, w
+
+    def _friction(self, data: mujoco.MjData, x: np.ndarray, v: np.ndarray) -> np.ndarray:
+        """Seabed friction on the deployed nodes (N), updating their stick points."""
+        k = self.first
+        stick = data.userdata[self._stick].reshape(-1, 3)
+        f, stick[k:] = self._friction_kernel(x, v, stick[k:])
+        stick[:k] = np.nan  # nodes on the drum
+        return f
+
+    def _friction_kernel(self, x, v, stick, preload=None):
+        """``seabed.seabed_friction`` for the deployed nodes; with ``preload`` (N per node), the
+        stick points are first placed so that the springs pull with it (up to mu N)."""
+        point, normal, w = self._seabed
+        k, m = self.first, self.model
+        if w <= 0.0:  # a buoyant cable does not press on the seabed
+            return np.zeros_like(x), np.full_like(x, np.nan)
+        rest = self.rest_lengths[k:]
+        share = np.r_[0.0, rest] * 0.5 + np.r_[rest, 0.0] * 0.5  # each node's half of its elements
+        dofs = self._dof0 + 3 * np.arange(k, self.n + 1)
+        mass = m.body_mass[self._bids[k:]] + m.dof_armature[dofs]
+        stiffness = STICK_STIFFNESS * mass / m.opt.timestep ** 2
+        damping = 2.0 * STICK_DAMPING * np.sqrt(stiffness * mass)
+        if preload is not None:
+            foot = x - ((x - point) @ normal)[:, None] * normal
+            stick = foot + preload / stiffness[:, None]
+        return seabed_friction(x, v, stick, point=point, normal=normal, radius=self.spec.diameter / 2,
+                               normal_force=w * share, mu=self.tm.seabed_friction, stiffness=stiffness,
+                               damping=damping)
+
     def loads(self, data: mujoco.MjData) -> np.ndarray:
-        """Hydrodynamic (+ bending) loads on the deployed nodes (N, shape (n-first+1, 3))."""
-        s, k = self.spec, self.first
+        """Hydrodynamic (+ bending, + seabed friction) loads on the deployed nodes (N, shape
+        (n-first+1, 3)); updates the seabed stick points."""
+        k = self.first
         x = data.flexvert_xpos[self.vertadr + k:self.vertadr + self.n + 1]
         v = data.qvel[self._dof0 + 3 * k:self._dof0 + 3 * (self.n + 1)].reshape(-1, 3)
+        f = self._hydro(x, v)
+        if self._seabed is not None:
+            f += self._friction(data, x, v)
+        return f
+
+    def _hydro(self, x: np.ndarray, v: np.ndarray) -> np.ndarray:
+        """Hydrodynamic (+ bending) loads (N) on deployed nodes at ``x`` (m) moving at ``v`` (m/s)."""
+        s = self.spec
         if self.payout_rate and self.drum_eq is not None:
             # the cable at the fairlead moves out of the drum at the payout rate, along the drum
             # element: its drag acts on that material velocity, not on the fairlead node's
@@ -392,6 +456,35 @@ class BoundTether:
         if s.EI > 0:
             f += bending_forces(x, s.EI, self.l0)
         return f
+
+    def preload_friction(self, data: mujoco.MjData, tension) -> None:
+        """Start the seabed friction from a steady state: set the stick points of the laid nodes
+        so that friction holds them as they are, with element ``tension`` (N, the deployed
+        elements', e.g. ``SteadyState.tension``), current and weight (each node's share up to
+        mu N). Without it a laid line starts with no friction mobilised, as a cable just laid
+        and never pulled; a steady state with friction (MoorPy's, ``steady_state``) assumes it
+        fully mobilised, as after the pull that brought the line there. Uses the positions and
+        velocities in ``data`` (qpos, qvel)."""
+        if self._seabed is None:
+            return
+        k, n, m = self.first, self.n, self.model
+        T = np.asarray(tension, dtype=float)
+        if T.shape != (n - k,) or not np.all(np.isfinite(T)):
+            raise ValueError(f"tension must be {n - k} finite element tensions (N), got shape {T.shape}")
+        x = self._x(k)
+        v = self._v(k)
+        e = x[1:] - x[:-1]
+        t = e / np.maximum(np.linalg.norm(e, axis=1), 1e-12)[:, None]
+        total = self._hydro(x, v)
+        total[:-1] += T[:, None] * t
+        total[1:] -= T[:, None] * t
+        total += m.body_mass[self._bids[k:], None] * m.opt.gravity
+        point, normal, _ = self._seabed
+        need = -(total - (total @ normal)[:, None] * normal)  # what friction must hold, in the seabed's plane
+        need[[0, -1]] = 0.0  # the ends are held by their supports
+        stick = data.userdata[self._stick].reshape(-1, 3)
+        stick[:] = np.nan
+        f, stick[k:] = self._friction_kernel(x, v, stick[k:], preload=need)
 
     def apply(self, model: mujoco.MjModel, data: mujoco.MjData) -> None:
         f = self.loads(data)

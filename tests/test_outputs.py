@@ -352,16 +352,22 @@ def test_signal_inside_nested_stagings_cleans_both(tmp_path):
                                             (signal.SIGINT, KeyboardInterrupt, None)])
 def test_signal_during_staging_cleans_up_and_restores_handlers(tmp_path, sig, exc, code):
     """SIGTERM/SIGINT while staging remove the temp folder, end with exit 143 / KeyboardInterrupt,
-    and the handlers in place before are restored."""
-    previous = signal.getsignal(sig)
-    with pytest.raises(exc) as info:
-        with Staging(check_target(tmp_path / "res", overwrite=False)) as st:
-            (st.path / "summary.json").write_text("{}")
-            os.kill(os.getpid(), sig)
-            time.sleep(5)  # the handler interrupts this
-    if code is not None:
-        assert info.value.code == code
-    assert signal.getsignal(sig) == previous
+    and the handlers in place before are restored. (Python's own handlers are put in place first:
+    a test process started in the background, as CI may start it, inherits SIGINT ignored, which
+    Staging rightly leaves ignored.)"""
+    python_default = {signal.SIGINT: signal.default_int_handler, signal.SIGTERM: signal.SIG_DFL}[sig]
+    inherited = signal.signal(sig, python_default)
+    try:
+        with pytest.raises(exc) as info:
+            with Staging(check_target(tmp_path / "res", overwrite=False)) as st:
+                (st.path / "summary.json").write_text("{}")
+                os.kill(os.getpid(), sig)
+                time.sleep(5)  # the handler interrupts this
+        if code is not None:
+            assert info.value.code == code
+        assert signal.getsignal(sig) == python_default
+    finally:
+        signal.signal(sig, inherited)
     assert list(tmp_path.iterdir()) == []
 
 
