@@ -51,29 +51,33 @@ def seabed_friction(x: np.ndarray, v: np.ndarray, stick: np.ndarray, *, point: n
     ``normal_force`` (n,) N; ``stiffness`` (n,) N/m and ``damping`` (n,) N s/m of the stick springs.
     Returns (forces (n, 3) N, in the seabed's plane, zero off the seabed; the new stick points)."""
     height = (x - point) @ normal
-    on = height - radius <= CONTACT_TOLERANCE * 2.0 * radius
-    on &= normal_force > 0.0
-    force = np.zeros_like(x)
-    new = np.full_like(x, np.nan)
-    if not on.any():
+    on = (height - radius <= CONTACT_TOLERANCE * 2.0 * radius) & (normal_force > 0.0)
+    force, new = np.zeros_like(x), np.full_like(x, np.nan)
+    idx = np.flatnonzero(on)
+    if len(idx) == 0:
         return force, new
-    xt = x[on] - height[on, None] * normal  # the node's foot on the seabed
-    vt = v[on] - (v[on] @ normal)[:, None] * normal
-    s = stick[on]
-    s = np.where(np.isnan(s), xt, s)  # a node that lands sticks where it lands
-    k, c = stiffness[on, None], damping[on, None]
-    limit = mu * normal_force[on]
-    f = -k * (xt - s)
-    size = np.sqrt(np.einsum("ij,ij->i", f, f))
-    slip = size > limit
-    if slip.any():  # drag the stick point along: the spring stays at the friction limit
-        scale = (limit[slip] / size[slip])[:, None]
-        s[slip] = xt[slip] + (s[slip] - xt[slip]) * scale
-        f[slip] *= scale
-    f -= c * vt
-    size = np.sqrt(np.einsum("ij,ij->i", f, f))
-    over = size > limit
-    f[over] *= (limit[over] / np.maximum(size[over], 1e-300))[:, None]
-    force[on] = f
-    new[on] = s
+    # the run of nodes from the first to the last on the seabed (a laid cable is one run),
+    # computed whole and the ones off the seabed masked at the end: cheaper in NumPy than
+    # selecting the ones on it
+    lo, hi = idx[0], idx[-1] + 1
+    f, new[lo:hi] = _stick_slip(x[lo:hi], v[lo:hi], stick[lo:hi], height[lo:hi], on[lo:hi], normal,
+                                mu * normal_force[lo:hi], stiffness[lo:hi], damping[lo:hi])
+    force[lo:hi] = f
     return force, new
+
+
+def _stick_slip(x, v, stick, height, on, normal, limit, stiffness, damping):
+    """``seabed_friction`` for a run of nodes, ``on`` those on the seabed; ``limit`` = mu N."""
+    xt = x - height[:, None] * normal  # the node's foot on the seabed
+    vt = v - (v @ normal)[:, None] * normal
+    s = np.where(np.isnan(stick), xt, stick)  # a node that lands sticks where it lands
+    f = stiffness[:, None] * (s - xt)
+    # beyond the limit the stick point is dragged along: the spring stays at mu N
+    scale = np.minimum(1.0, limit / np.maximum(np.sqrt(np.einsum("ij,ij->i", f, f)), 1e-300))
+    s = xt + (s - xt) * scale[:, None]
+    f *= scale[:, None]
+    f -= damping[:, None] * vt
+    f *= np.minimum(1.0, limit / np.maximum(np.sqrt(np.einsum("ij,ij->i", f, f)), 1e-300))[:, None]
+    f *= on[:, None]
+    s[~on] = np.nan
+    return f, s

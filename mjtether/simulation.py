@@ -415,8 +415,10 @@ class BoundTether:
         k, m = self.first, self.model
         if w <= 0.0:  # a buoyant cable does not press on the seabed
             return np.zeros_like(x), np.full_like(x, np.nan)
-        rest = self.rest_lengths[k:]
-        share = np.r_[0.0, rest] * 0.5 + np.r_[rest, 0.0] * 0.5  # each node's half of its elements
+        half = 0.5 * self.rest_lengths[k:]
+        share = np.zeros(len(half) + 1)  # each node's half of its elements
+        share[:-1] += half
+        share[1:] += half
         dofs = self._dof0 + 3 * np.arange(k, self.n + 1)
         mass = m.body_mass[self._bids[k:]] + m.dof_armature[dofs]
         stiffness = STICK_STIFFNESS * mass / m.opt.timestep ** 2
