@@ -311,6 +311,8 @@ def add_tether(
     name: str = "tether",
     rgba=(0.95, 0.6, 0.1, 1.0),
     seabed_friction: float | None = None,
+    seabed_stiffness: float | None = None,
+    seabed_damping: float = 0.0,
     max_length: float | None = None,
     end_at=None,
 ) -> TetherModel:
@@ -325,6 +327,11 @@ def add_tether(
         seabed_friction: ``None`` (default) for a tether that touches nothing; a Coulomb
             coefficient (>= 0) to let it rest and slide on the seabed of ``add_seabed`` (and on
             nothing else: robots' legs never snag it).
+        seabed_stiffness, seabed_damping: the seabed's normal contact as MoorDyn gives it, a
+            pressure per metre of penetration (Pa/m, kBot) and per m/s of penetration speed
+            (Pa s/m, cBot) on the cable's projected area d l, mapped onto the contact's
+            ``solref = (-k, -b)`` per unit of an element's mass (with its added mass);
+            ``None`` (default): MuJoCo's soft contact with a time constant of two steps.
         max_length: the longest deployed length (m) a winch may pay out to; cable beyond
             ``tether.length`` waits on the drum at ``start`` (see the module docstring).
             Reel-in needs no allowance.
@@ -398,7 +405,14 @@ def add_tether(
         flex.priority = 1  # the tether's settings, not the seabed geom's, set the contact
         flex.condim = 1
         flex.margin = 0.0
-        flex.solref = [2 * dt, 1.0]
+        if seabed_stiffness is None:
+            flex.solref = [2 * dt, 1.0]
+        else:  # MoorDyn's kBot, cBot (Pa/m, Pa s/m) on d l, per kg of an element (added mass in)
+            _checks.positive("seabed_stiffness", seabed_stiffness, "Pa/m")
+            _checks.non_negative("seabed_damping", seabed_damping, "Pa s/m")
+            rho = 1025.0 if water is None else float(water.rho([water.seabed_z])[0])
+            per_kg = tether.diameter / (tether.mu + tether.ca_normal * rho * tether.area)  # (d l) / (m l)
+            flex.solref = [-seabed_stiffness * per_kg, -max(seabed_damping * per_kg, 1e-9)]
         flex.solimp = [0.99, 0.999, 0.001, 0.5, 2.0]
 
     # element j: a tendon between its nodes' sites held at its rest length by an equality that

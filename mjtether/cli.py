@@ -17,13 +17,19 @@ from .units import knots
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(prog="mjtether", description="Underwater tether simulation in MuJoCo")
     sub = ap.add_subparsers(dest="command", required=True)
+    convert_cmd = sub.add_parser("convert", help="convert a MoorDyn input file to a scenario TOML file, or back "
+                                 "(by the files' extensions: .toml is a scenario, anything else a MoorDyn file)")
+    convert_cmd.add_argument("source", help="a MoorDyn v2 input file or a scenario .toml")
+    convert_cmd.add_argument("target", help="the file to write (.toml for a scenario; else a MoorDyn file)")
+    convert_cmd.add_argument("--overwrite", action="store_true", help="replace an existing target file")
+    _set_option(convert_cmd)
     demo_cmd = sub.add_parser("demo", help="a tether hanging from the surface in a current; prints end tensions")
     demo_cmd.add_argument("--length", type=float, default=200.0, help="tether length (m), default 200")
     demo_cmd.add_argument("--segments", type=int, default=50, help="number of elements, default 50")
     demo_cmd.add_argument("--current-knots", type=float, default=3.0, help="surface current (kn), default 3")
     demo_cmd.add_argument("--duration", type=float, default=120.0, help="simulated time (s), default 120")
     run_cmd = sub.add_parser("run", help="run a scenario file and write its results folder")
-    run_cmd.add_argument("scenario", nargs="?", help="scenario TOML file (default: the built-in scenario)")
+    run_cmd.add_argument("scenario", nargs="?", help="scenario TOML file or MoorDyn v2 input file (default: the built-in scenario)")
     _set_option(run_cmd)
     run_cmd.add_argument("--out", default="results", help="results folder (default: ./results)")
     run_cmd.add_argument("--overwrite", action="store_true",
@@ -33,14 +39,14 @@ def main(argv=None) -> int:
                          help="also render a video into the results folder (default name video.mp4; .mp4 or .gif)")
     _video_options(run_cmd)
     render_cmd = sub.add_parser("render", help="render a scenario run to a video file (no display needed)")
-    render_cmd.add_argument("scenario", nargs="?", help="scenario TOML file (default: the built-in scenario)")
+    render_cmd.add_argument("scenario", nargs="?", help="scenario TOML file or MoorDyn v2 input file (default: the built-in scenario)")
     _set_option(render_cmd)
     render_cmd.add_argument("-o", "--output", default="run.mp4", help="video file, .mp4 (H.264) or .gif (default run.mp4)")
     render_cmd.add_argument("--duration", type=float, help="simulated seconds to render (default: the scenario's)")
     render_cmd.add_argument("--overwrite", action="store_true", help="replace an existing video file")
     _video_options(render_cmd)
     solve_cmd = sub.add_parser("solve", help="print the quasi-static answer for a scenario's initial state")
-    solve_cmd.add_argument("scenario", nargs="?", help="scenario TOML file (default: the built-in scenario)")
+    solve_cmd.add_argument("scenario", nargs="?", help="scenario TOML file or MoorDyn v2 input file (default: the built-in scenario)")
     _set_option(solve_cmd)
     args = ap.parse_args(argv)
     if args.command == "run":
@@ -49,6 +55,8 @@ def main(argv=None) -> int:
         return _solve(args)
     if args.command == "render":
         return _render(args)
+    if args.command == "convert":
+        return _convert(args)
     if args.command == "demo":
         try:
             _checks.in_range("--current-knots", args.current_knots, 0.0, 19.0, "kn")
@@ -96,10 +104,11 @@ def _video_factory(args, path, duration=None, overwrite=True):
 def _load(path, sets=()):
     """The checked scenario (the built-in one if ``path`` is None) with ``--set`` overrides, or
     None after printing the one-line reason."""
-    from .scenario import ScenarioError, load_scenario
+    from .moordyn import load_any
+    from .scenario import ScenarioError
 
     try:
-        return load_scenario(path if path else DEFAULT_SCENARIO, overrides=sets)
+        return load_any(path if path else DEFAULT_SCENARIO, overrides=sets)
     except ScenarioError as exc:
         print(f"mjtether: {exc}", file=sys.stderr)
         return None
@@ -218,6 +227,46 @@ def _terminate_as_exit():
         yield
     finally:
         signal.signal(signal.SIGTERM, old)
+
+
+def _convert(args) -> int:
+    """``mjtether convert SOURCE TARGET``: MoorDyn file <-> scenario TOML (see mjtether.moordyn);
+    the target is written whole or not at all, and never over an existing file unless
+    ``--overwrite``."""
+    import os
+    import tempfile
+
+    from . import moordyn
+    from .scenario import ScenarioError, to_toml
+
+    sc = _load(args.source, args.set)
+    if sc is None:
+        return 2
+    target = Path(args.target)
+    source = Path(args.source).resolve()
+    if target.is_dir() or (target.exists() and not args.overwrite) or target.resolve() == source:
+        why = ("is a folder" if target.is_dir() else "is the source file" if target.resolve() == source
+               else "exists; pass --overwrite to replace it")
+        print(f"mjtether convert: {args.target} {why}", file=sys.stderr)
+        return 2
+    try:
+        text = to_toml(sc) if target.suffix.lower() == ".toml" else moordyn.write(sc)
+    except ScenarioError as exc:
+        print(f"mjtether convert: {exc}", file=sys.stderr)
+        return 2
+    tmp = None
+    try:
+        fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", dir=target.resolve().parent)
+        with os.fdopen(fd, "w") as fh:
+            fh.write(text)
+        os.replace(tmp, target)
+    except OSError as exc:
+        if tmp is not None:
+            Path(tmp).unlink(missing_ok=True)
+        print(f"mjtether convert: cannot write {args.target}: {exc.strerror or exc}", file=sys.stderr)
+        return 1
+    print(f"wrote {args.target}")
+    return 0
 
 
 def _solve(args) -> int:

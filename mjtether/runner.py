@@ -118,7 +118,7 @@ def water_from(sc: Scenario) -> wm.WaterColumn:
     else:
         headings = None if c.headings_deg is None else [math.radians(h) for h in c.headings_deg]
         current = wm.TabulatedCurrent(c.depths, c.speeds, headings)
-    return wm.WaterColumn(depth=sc.water.depth, density=density, current=current)
+    return wm.WaterColumn(depth=sc.water.depth, density=density, current=current, gravity=sc.water.gravity)
 
 
 def tether_from(sc: Scenario) -> TetherSpec:
@@ -137,7 +137,7 @@ def winch_from(sc: Scenario) -> Winch:
 
 @dataclass
 class Ship:
-    """Kinematics of the ship's fairlead (m, world; z = 0 plus heave)."""
+    """Kinematics of the ship's fairlead (m, world; z = ``ship.fairlead_z`` plus heave)."""
 
     mode: str
     position: np.ndarray
@@ -151,14 +151,15 @@ class Ship:
     @classmethod
     def from_scenario(cls, sc: Scenario) -> "Ship":
         s = sc.ship
-        return cls(s.mode, np.array([*s.position, 0.0]), np.array([*s.offset, 0.0]),
-                   [np.array([*p, 0.0]) for p in (s.waypoints or ())], s.speed, s.heave_amplitude, s.heave_period)
+        return cls(s.mode, np.array([*s.position, s.fairlead_z]), np.array([*s.offset, 0.0]),
+                   [np.array([*p, s.fairlead_z]) for p in (s.waypoints or ())], s.speed, s.heave_amplitude,
+                   s.heave_period)
 
     def advance(self, dt: float, t: float, robot: np.ndarray) -> np.ndarray:
         """Move the ship over ``dt`` (s) and return the fairlead position."""
         p = self.position
         if self.mode == "follow":
-            target = np.array([robot[0], robot[1], 0.0]) + self.offset
+            target = np.array([robot[0], robot[1], p[2]]) + self.offset
         elif self.mode == "waypoints" and self._wp < len(self.waypoints):
             target = self.waypoints[self._wp]
             if np.linalg.norm(target - p) < 1e-6:
@@ -187,6 +188,7 @@ class ScenarioRun:
         spec = mujoco.MjSpec()
         spec.option.timestep = dt
         spec.option.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST
+        spec.option.gravity = [0.0, 0.0, -self.water.gravity]
         spec.modelname = "mjtether_scenario"
         wsc = sc.water
         self.slope, self.slope_heading = math.radians(wsc.seabed_slope_deg), math.radians(wsc.seabed_slope_heading_deg)
@@ -247,6 +249,8 @@ class ScenarioRun:
             hold.active = True
         self.tm = builder.add_tether(spec, self.tether_spec, builder.SitePoint("ship/fairlead"), end,
                                      water=self.water, nodes=nodes, seabed_friction=sc.tether.seabed_friction,
+                                     seabed_stiffness=sc.water.seabed_stiffness or None,
+                                     seabed_damping=sc.water.seabed_damping,
                                      max_length=self.winch.max_length, end_at=robot if self.walker else None)
         self.sim = Simulation(spec, self.water, tethers=[self.tm], bodies=bodies)
         try:

@@ -117,6 +117,12 @@ class Water(Section):
     seabed_slope_deg: float = param(0.0, 0.0, 30.0, "deg", "seabed slope; depth is the depth at x = y = 0")
     seabed_slope_heading_deg: float = param(0.0, -360.0, 360.0, "deg",
                                             "direction in which the seabed rises, from +x towards +y")
+    seabed_stiffness: float = param(0.0, 0.0, 1e10, "Pa/m", "the tether's seabed contact: normal pressure per metre "
+                                    "of penetration on its projected area d l, as MoorDyn's kBot (0: MuJoCo's soft "
+                                    "contact at twice the time step)")
+    seabed_damping: float = param(0.0, 0.0, 1e10, "Pa s/m", "the tether's seabed contact: pressure per m/s of "
+                                  "penetration speed, as MoorDyn's cBot (used with seabed_stiffness)")
+    gravity: float = param(9.81, 9.7, 9.9, "m/s^2", "gravitational acceleration (weight and buoyancy)")
     density: Density = section(Density)
     current: Current = section(Current)
 
@@ -156,6 +162,8 @@ class Ship(Section):
     speed: float = param(1.0, 0.0, 20.0, "m/s", "waypoints / follow: top speed", knots=True)
     heave_amplitude: float = param(0.0, 0.0, 20.0, "m", "heave of the fairlead (sinusoid)")
     heave_period: float = param(8.0, 0.5, 100.0, "s", "heave period")
+    fairlead_z: float = param(0.0, -1000.0, 0.0, "m", "height of the fairlead (where the tether leaves the ship) "
+                              "relative to the water surface; negative below it")
 
     def _check(self):
         if self.mode == "waypoints" and self.waypoints is None:
@@ -379,3 +387,24 @@ def _override(raw: dict, item: str) -> None:
             raise ScenarioError(f"--set {key}: {'.'.join(sections[:i + 1])} is not a section", key)
         node = nxt
     node[leaf] = v
+
+
+def to_toml(sc: Scenario) -> str:
+    """The scenario as a TOML file: the keys that differ from their defaults (and the robot's
+    type), section by section; ``load_scenario`` reads it back to the same scenario."""
+    import tomli_w
+
+    def diff(now: dict, default: dict) -> dict:
+        out = {}
+        for k, v in now.items():
+            if isinstance(v, dict):
+                sub = diff(v, default[k])
+                if sub:
+                    out[k] = sub
+            elif v is not None and v != default[k]:
+                out[k] = v
+        return out
+
+    tree = diff(sc.to_dict(), Scenario().to_dict())
+    tree.setdefault("robot", {})["type"] = sc.robot.type
+    return tomli_w.dumps(tree)

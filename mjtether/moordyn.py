@@ -1,0 +1,300 @@
+"""MoorDyn v2 input files: read one into a scenario, write a scenario as one.
+
+MoorDyn (Hall and Goupee, 2015, *Ocean Engineering*; the v2 format of its documentation,
+"Input Files") describes a mooring system in sections headed by dashed lines: LINE TYPES,
+POINTS, LINES, OPTIONS (and ROD TYPES, BODIES, RODS, OUTPUTS...). mjtether runs one tether
+between a ship's fairlead and a robot end, so a file maps onto a scenario when it has:
+
+* one line, of one line type, between two points that are ``Fixed``, ``Coupled`` or
+  ``Vessel``: the higher one is the ship's fairlead (``ship.position``, ``ship.fairlead_z``),
+  the other the anchored robot end (``robot.type = "anchor"``);
+* line type columns Diam, Mass/m, EA, BA/-zeta, EI, Cd, Ca, CdAx, CaAx (+ Cl, dF, cF = 0):
+  ``tether.diameter``, ``mass_per_length``, ``EA``, ``EI``, ``cd_normal``, ``ca_normal``,
+  ``cd_tangential``;
+* options WtrDpth, rho/rhoW, g, kBot, cBot, FrictionCoefficient, dtM: ``water.depth``,
+  ``water.density.rho``, ``water.gravity``, ``water.seabed_stiffness`` and ``seabed_damping``,
+  ``tether.seabed_friction`` (0 when not given, as in MoorDyn), ``simulation.timestep`` (dtM
+  capped at 10 ms: mjtether
+  integrates implicitly and needs no explicit-scheme step).
+
+Refused, with the line of the file named: more than one line; free points (clump weights,
+floats), bodies and rods; a BA in N s (mjtether's axial damping is a fraction of critical:
+give a negative BA); VIV (Cl != 0); waves, currents and seafloor files; a static/dynamic
+friction ratio other than 1 (mjtether's seabed friction is one coefficient). Approximated,
+with a warning naming the line: CaAx (mjtether's added mass acts in every direction with Ca)
+and BA/-zeta (mjtether damps each element's stretch critically). Read and not needed: the
+options of MoorDyn's own integrator and initial-condition solver (tScheme, CFL, dtIC, TmaxIC,
+CdScaleIC, threshIC, ICgenDynamic), FricDamp (mjtether's friction sticks exactly: the
+limit FricDamp -> infinity), and the output options and OUTPUTS section (mjtether's outputs
+are its own).
+
+The run's duration is not in a MoorDyn file: 60 s unless ``--set simulation.duration=...``.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+import warnings
+from pathlib import Path
+
+from .scenario import Scenario, ScenarioError, load_scenario
+
+DEFAULT_DURATION = 60.0
+"""Simulated time (s) of a scenario read from a MoorDyn file, which does not say."""
+
+_HEADER = re.compile(r"^\s*-{2,}\s*([A-Za-z][A-Za-z /]*?)\s*-*\s*$")
+_IGNORED_OPTIONS = {"writelog", "tscheme", "cfl", "dtic", "tmaxic", "cdscaleic", "threshic", "icgendynamic",
+                    "fricdamp", "cv", "dtout", "writeunits", "disableoutput", "disableouttime", "echo",
+                    "outswitch", "dtwave", "wavekin_rampt", "unifycurrentgrid"}
+_REFUSED_SECTIONS = ("ROD TYPES", "BODIES", "RODS", "FAILURE", "CONTROL", "EXTERNAL LOADS")
+
+
+class MoorDynWarning(UserWarning):
+    """A MoorDyn entry mjtether approximates (the message names the line)."""
+
+
+def is_moordyn(text: str) -> bool:
+    """Whether ``text`` looks like a MoorDyn input file (it has a LINE TYPES or LINE DICTIONARY section)."""
+    return any((m := _HEADER.match(line)) and m.group(1).strip().upper() in ("LINE TYPES", "LINE DICTIONARY")
+               for line in text.splitlines())
+
+
+def _sections(name: str, text: str) -> dict[str, list[tuple[int, list[str]]]]:
+    """{section title: [(line number, fields), ...]} with comments (!, #, %) removed."""
+    out: dict[str, list] = {}
+    current = None
+    for no, raw in enumerate(text.splitlines(), 1):
+        line = re.split(r"[!#%]", raw, maxsplit=1)[0].rstrip()
+        m = _HEADER.match(line)
+        if m:
+            current = m.group(1).strip().upper()
+            if current in ("LINE DICTIONARY", "NODE PROPERTIES", "LINE PROPERTIES", "SOLVER OPTIONS",
+                           "POINT PROPERTIES", "CONNECTION PROPERTIES"):
+                raise ScenarioError(f"{name}: line {no}: '{current}' is a MoorDyn v1 section; mjtether reads the v2 "
+                                    "format (LINE TYPES, POINTS, LINES, OPTIONS)")
+            out.setdefault(current, [])
+            continue
+        if current is None or not line.strip():
+            continue
+        out[current].append((no, line.split()))
+    return out
+
+
+def _table(name, rows, section):
+    """The data rows of a table section: its first two rows are column names and units."""
+    if len(rows) < 2:
+        raise ScenarioError(f"{name}: the {section} section needs its column-name and unit lines")
+    return rows[2:]
+
+
+def _number(name, no, text, what):
+    try:
+        return float(text)
+    except ValueError:
+        raise ScenarioError(f"{name}: line {no}: {what} must be a number, got {text!r}") from None
+
+
+def read(path=None, *, text: str | None = None, name: str | None = None, overrides=()) -> Scenario:
+    """The scenario a MoorDyn v2 file describes (see the module docstring), checked; ``overrides``
+    as in ``load_scenario`` (``simulation.duration=...``)."""
+    if name is None:
+        name = str(path) if path is not None else "<moordyn>"
+    if text is None:
+        from .scenario import _read
+        text = _read(name, path)
+    raw = to_dict(text, name)
+    return load_scenario(data=raw, name=name, overrides=overrides)
+
+
+def to_dict(text: str, name: str = "<moordyn>") -> dict:
+    """The scenario tree (as TOML would hold it) of a MoorDyn v2 file's text."""
+    sec = _sections(name, text)
+    for s in _REFUSED_SECTIONS:
+        rows = sec.get(s, [])
+        if len(rows) > 2:
+            raise ScenarioError(f"{name}: line {rows[2][0]}: {s.lower()} are not supported by mjtether (it runs one "
+                                "line between a fixed or coupled fairlead and an anchor)")
+    if "LINE TYPES" not in sec:
+        raise ScenarioError(f"{name}: no LINE TYPES section: not a MoorDyn v2 input file")
+    for s in ("POINTS", "LINES"):
+        if s not in sec:
+            raise ScenarioError(f"{name}: no {s} section")
+
+    types = {}
+    for no, f in _table(name, sec["LINE TYPES"], "LINE TYPES"):
+        if len(f) < 10:
+            raise ScenarioError(f"{name}: line {no}: a line type needs TypeName Diam Mass/m EA BA/-zeta EI Cd Ca CdAx "
+                                f"CaAx, got {len(f)} columns")
+        if "|" in f[3] or "|" in f[4]:
+            raise ScenarioError(f"{name}: line {no}: viscoelastic EA or BA ('|') is not supported")
+        v = [_number(name, no, x, col) for x, col in zip(f[1:10], ("Diam", "Mass/m", "EA", "BA/-zeta", "EI", "Cd",
+                                                                    "Ca", "CdAx", "CaAx"))]
+        extra = [_number(name, no, x, "Cl/dF/cF") for x in f[10:13]]
+        if extra and extra[0] != 0.0:
+            raise ScenarioError(f"{name}: line {no}: VIV (Cl = {extra[0]:g}) is not supported")
+        diam, mass, EA, BA, EI, cd, ca, cdax, caax = v
+        if BA > 0:
+            raise ScenarioError(f"{name}: line {no}: BA = {BA:g} N s: mjtether damps each element's stretch as a "
+                                "fraction of critical; give a negative BA (-zeta)")
+        if BA < 0 and BA != -1.0:
+            warnings.warn(f"{name}: line {no}: BA/-zeta = {BA:g}: mjtether damps each element's stretch critically "
+                          "(zeta = 1)", MoorDynWarning, stacklevel=3)
+        if caax != ca:
+            warnings.warn(f"{name}: line {no}: CaAx = {caax:g}: mjtether's added mass acts in every direction "
+                          f"with Ca = {ca:g}", MoorDynWarning, stacklevel=3)
+        types[f[0]] = {"diameter": diam, "mass_per_length": mass, "EA": EA, "EI": EI, "cd_normal": cd,
+                       "ca_normal": ca, "cd_tangential": cdax}
+
+    points = {}
+    for no, f in _table(name, sec["POINTS"], "POINTS"):
+        if len(f) < 8:
+            raise ScenarioError(f"{name}: line {no}: a point needs ID Attachment X Y Z Mass Volume CdA Ca")
+        kind = f[1].lower()
+        if kind not in ("fixed", "coupled", "vessel"):
+            raise ScenarioError(f"{name}: line {no}: point {f[0]} is {f[1]!r}: mjtether supports Fixed and Coupled "
+                                "(Vessel) points; free points (clump weights, floats) and body points are not "
+                                "supported yet")
+        xyz = [_number(name, no, x, "X/Y/Z") for x in f[2:5]]
+        points[f[0]] = (no, kind, xyz)
+
+    lines = _table(name, sec["LINES"], "LINES")
+    if len(lines) != 1:
+        where = lines[1][0] if len(lines) > 1 else sec["LINES"][-1][0]
+        raise ScenarioError(f"{name}: line {where}: mjtether runs one line per scenario; this file has {len(lines)}")
+    no, f = lines[0]
+    if len(f) < 6:
+        raise ScenarioError(f"{name}: line {no}: a line needs ID LineType AttachA AttachB UnstrLen NumSegs")
+    if f[1] not in types:
+        raise ScenarioError(f"{name}: line {no}: line type {f[1]!r} is not in LINE TYPES ({', '.join(types)})")
+    for end in f[2:4]:
+        if end not in points:
+            raise ScenarioError(f"{name}: line {no}: attachment {end!r} is not a point of POINTS (rod ends are not "
+                                "supported)")
+    a, b = points[f[2]], points[f[3]]
+    top, bottom = (a, b) if a[2][2] > b[2][2] else (b, a)
+    length = _number(name, no, f[4], "UnstrLen")
+    segments = _number(name, no, f[5], "NumSegs")
+
+    options = {}
+    for ono, fo in sec.get("OPTIONS", []):
+        if len(fo) < 2:
+            raise ScenarioError(f"{name}: line {ono}: an option is a value then its name")
+        options[fo[1].lower()] = (ono, fo[0])
+
+    def opt(key, default=None):
+        if key not in options:
+            return default
+        ono, val = options.pop(key)
+        return _number(name, ono, val, key)
+
+    depth = opt("wtrdpth")
+    if depth is None or depth <= 0:
+        raise ScenarioError(f"{name}: OPTIONS: WtrDpth (the water depth, m) is required and must be > 0")
+    rho = opt("rho", opt("rhow", 1025.0))
+    sc: dict = {
+        "simulation": {"duration": DEFAULT_DURATION},
+        "water": {"depth": depth, "density": {"type": "constant", "rho": rho}, "gravity": opt("g", 9.81)},
+        "tether": {"length": length, "segments": int(segments) if segments.is_integer() else segments,
+                   **types[f[1]]},
+        "ship": {"mode": "fixed", "position": top[2][:2], "fairlead_z": top[2][2]},
+        "winch": {"mode": "fixed"},
+        "robot": {"type": "anchor", "position": bottom[2]},
+    }
+    kb, cb = opt("kbot"), opt("cbot")
+    if kb is not None:
+        sc["water"]["seabed_stiffness"] = kb
+        sc["water"]["seabed_damping"] = 3.0e5 if cb is None else cb
+    mu = opt("frictioncoefficient", opt("mu_kt"))
+    sc["tether"]["seabed_friction"] = 0.0 if mu is None else mu  # (MoorDyn's default: no friction)
+    mu_ka = opt("mu_ka")
+    if mu_ka is not None and mu is not None and mu_ka != mu:
+        raise ScenarioError(f"{name}: line {options.get('mu_ka', (no,))[0]}: axial friction MU_KA differs from "
+                            "transverse: mjtether's seabed friction is one coefficient")
+    for key in ("statdynfricscale", "mc"):
+        val = opt(key)
+        if val is not None and val != 1.0:
+            raise ScenarioError(f"{name}: {key}: static and kinetic friction differ ({val:g}); mjtether's seabed "
+                                "friction is one coefficient")
+    dtm = opt("dtm")
+    if dtm is not None:
+        sc["simulation"]["timestep"] = min(max(dtm, 1e-5), 0.01)
+    for key in ("wavekin", "currents"):
+        val = opt(key)
+        if val:
+            raise ScenarioError(f"{name}: line {options.get(key, (0,))[0]}: {key} = {val:g}: waves and current "
+                                "grids are not supported (give the current in the scenario instead)")
+    for key, (ono, val) in options.items():
+        if key == "seafloorfile":
+            raise ScenarioError(f"{name}: line {ono}: SeafloorFile: bathymetry files are not supported")
+        if key not in _IGNORED_OPTIONS:
+            raise ScenarioError(f"{name}: line {ono}: option {key!r} is not supported by mjtether")
+    return sc
+
+
+def write(sc: Scenario) -> str:
+    """A MoorDyn v2 input file of a scenario (one line from the anchored robot end to a coupled
+    fairlead); ScenarioError naming the key for what MoorDyn cannot express."""
+    t, w, r, s = sc.tether, sc.water, sc.robot, sc.ship
+
+    def refuse(key, why):
+        raise ScenarioError(f"{key}: {why}: not expressible in a MoorDyn file", key)
+
+    if r.type != "anchor":
+        refuse("robot.type", f"{r.type!r} (only an anchored end is)")
+    if t.EA == 0.0:
+        refuse("tether.EA", "0 (inextensible; MoorDyn needs a stiffness)")
+    if w.density.type != "constant":
+        refuse("water.density.type", repr(w.density.type))
+    c = w.current
+    if c.type != "constant" or c.speed != 0.0:
+        refuse("water.current", "a current (MoorDyn takes currents from grid files)")
+    if w.seabed_slope_deg != 0.0:
+        refuse("water.seabed_slope_deg", "a sloped seabed (MoorDyn takes bathymetry from a file)")
+    if s.mode != "fixed" or s.heave_amplitude != 0.0:
+        refuse("ship.mode", "a moving ship (MoorDyn's coupled points move with the coupled program)")
+    if sc.winch.mode != "fixed":
+        refuse("winch.mode", repr(sc.winch.mode))
+    mass = t.mass_per_length if t.mass_per_length > 0 else t.density * math.pi * t.diameter ** 2 / 4
+    x0, y0 = s.position
+    lines = [
+        "--------------------- MoorDyn Input File ------------------------------------",
+        "written by mjtether from a scenario",
+        "---------------------- LINE TYPES ---------------------------------------------",
+        "TypeName   Diam    Mass/m    EA    BA/-zeta    EI    Cd    Ca    CdAx    CaAx",
+        "(name)     (m)     (kg/m)    (N)   (N-s/-)    (N-m^2) (-)   (-)   (-)     (-)",
+        f"tether {t.diameter!r} {mass!r} {t.EA!r} -1 {t.EI!r} {t.cd_normal!r} {t.ca_normal!r} {t.cd_tangential!r} "
+        f"{t.ca_normal!r}",
+        "---------------------- POINTS -------------------------------------------------",
+        "ID   Attachment  X    Y    Z    Mass   Volume  CdA   Ca",
+        "(#)  (word)      (m)  (m)  (m)  (kg)   (m^3)   (m^2) (-)",
+        f"1 Fixed {r.position[0]!r} {r.position[1]!r} {r.position[2]!r} 0 0 0 0",
+        f"2 Coupled {x0!r} {y0!r} {s.fairlead_z!r} 0 0 0 0",
+        "---------------------- LINES --------------------------------------------------",
+        "ID  LineType  AttachA  AttachB  UnstrLen  NumSegs  LineOutputs",
+        "(#) (name)    (#)      (#)      (m)       (-)      (-)",
+        f"1 tether 1 2 {t.length!r} {t.segments} -",
+        "---------------------- OPTIONS ------------------------------------------------",
+        f"{sc.simulation.timestep!r} dtM",
+        f"{w.gravity!r} g",
+        f"{w.density.rho!r} rho",
+        f"{w.depth!r} WtrDpth",
+        f"{t.seabed_friction!r} FrictionCoefficient",
+    ]
+    if w.seabed_stiffness > 0:
+        lines += [f"{w.seabed_stiffness!r} kBot", f"{w.seabed_damping!r} cBot"]
+    lines.append("---------------------- OUTPUTS ------------------------------------------------")
+    lines.append("FAIRTEN1")
+    lines.append("ANCHTEN1")
+    lines.append("------------------------- need this line --------------------------------------")
+    return "\n".join(lines) + "\n"
+
+
+def load_any(path, overrides=()) -> Scenario:
+    """A scenario from a TOML scenario file or a MoorDyn input file (told apart by content)."""
+    from .scenario import _read
+    name = str(path)
+    text = _read(name, path)
+    if Path(path).suffix.lower() != ".toml" and is_moordyn(text):
+        return read(text=text, name=name, overrides=overrides)
+    return load_scenario(text=text, name=name, overrides=overrides)
