@@ -69,6 +69,36 @@ L > drop + span too, and one that sweeps P towards R the slack one for L < drop 
 A uniform tow velocity v_tow of the whole cable (both ends moving together, the towed steady
 state) is the same as an extra current -v_tow.
 
+Line make-ups. ``tether`` may be a ``mjtether.makeup.LineMakeup`` instead of a ``TetherSpec``:
+sections of different line types joined end to end (each with its own element length, diameter,
+mass, EA and drag coefficients), float sections (extra volume, mass and normal drag area per
+metre on the elements they cover) and point loads (clump weights, buoyancy modules) lumped on the
+nodes by the lever rule. The march uses each element's own properties, and node k + 1 adds its
+point load g = (rho V - m) g z_hat (buoyancy only under water) + 1/2 rho CdA |u| u (u the relative
+velocity at the node): P_k+1 = P_k - f_k - g_k+1 (added mass plays no part in statics). A point
+load on node 0 is counted in the top force. What is supported for a make-up:
+
+* two fixed ends, suspended (``seabed=False``, or clear of the seabed);
+* the bottom end on the seabed with a straight-laid part: the touchdown is the first element
+  after the last buoyant part (a buoyant element or a net buoyant point load, which cannot lie on
+  the seabed) where P_z turns from negative to >= 0, inside the element or on a node whose point
+  load (a clump holding the touchdown) turns it; the laid part's tension falls by cb w per metre
+  with each element's own w and by cb W at each laid clump of wet weight W, never below zero
+  (the rest lies unstretched, at zero tension);
+* the top end on the seabed too (within 1 mm), e.g. one half of a symmetric U between two
+  anchors: the line may lie on the seabed from the top and lift off. The shooting parameter is
+  then F: with F_z >= 0 the line leaves the top with force F; with F_z < 0 it lies on the seabed
+  for the length whose wet weight is -F_z and lifts off with horizontal force (F_x, F_y), its
+  tension falling by friction towards the top (``top_laid_length``; the reported top force is the
+  anchor's, horizontal). The shot is continuous in F, so Newton works as before;
+* single marches from either end (``top_force`` or ``bottom_force``).
+
+Refused: a line resting on the seabed between two suspended parts (ValueError, as for a
+TetherSpec), and a slack make-up (too long to lie taut between its touchdown and the bottom end):
+the zero-tension hang above is solved only for uniform lines (a one-section make-up without loads
+is solved like a TetherSpec, slack included); for others, when no taut solution is found with the
+bottom end on the seabed, ``NotImplementedError`` says so.
+
 Frames: world, z up, water surface z = 0, seabed z = -water.depth. SI units.
 """
 
@@ -81,6 +111,7 @@ import numpy as np
 
 from .. import _checks
 from ..hydro import wet_fraction
+from ..makeup import LineMakeup
 from ..tether import TetherSpec
 from ..water import WaterColumn
 from .catenary import catenary
@@ -112,6 +143,8 @@ class SteadyState:
         slack_length: unstretched length of the laid cable that carries no tension (m): all of
             ``laid_length`` for a slack cable (see the module docstring); on a straight-laid
             one the part beyond u0 = H / (cb w) from the touchdown; else 0.
+        top_laid_length: unstretched length lying on the seabed at the top end (m): a
+            ``LineMakeup`` whose top end is on the seabed (the lift-off point is there); else 0.
     """
 
     nodes: np.ndarray
@@ -124,6 +157,7 @@ class SteadyState:
     residual: float
     jacobian: np.ndarray | None = field(default=None, repr=False)
     slack_length: float = 0.0
+    top_laid_length: float = 0.0
 
     @property
     def tow_tension(self) -> float:
@@ -137,73 +171,179 @@ class SteadyState:
 
 
 class _Cable:
-    """Constants of the march for one tether in one water column."""
+    """Constants of the march for one tether (a ``TetherSpec`` or a ``LineMakeup``) in one water
+    column: per-element arrays (``l_e``, ``d_e``, ...) and, for a uniform line, the same as
+    scalars (``l``, ``d``, ...; ``None`` for a non-uniform make-up)."""
 
-    def __init__(self, tether: TetherSpec, water: WaterColumn, tow_velocity, EA):
-        self.N = tether.segments
-        self.l = tether.segment_length
-        self.L = tether.length
-        self.EA = math.inf if EA is None else float(EA)
-        self.d = tether.diameter
-        self.A = tether.area
-        self.mu = tether.mu
-        self.cdn = tether.cd_normal
-        self.cdt_pi = math.pi * tether.cd_tangential
+    def __init__(self, tether, water: WaterColumn, tow_velocity, EA):
         self.g = water.gravity
         self.water = water
         self.v_tow = np.asarray(tow_velocity, dtype=float)
+        self.float_cda = None  # normal drag area of distributed floats per metre, per element
+        self.node_loads = None  # (mass, volume, cd_area) per node, where any
+        self.k_min = 0  # first element that may hold the touchdown
+        if isinstance(tether, TetherSpec):
+            self.makeup = None
+            self.N = N = tether.segments
+            self.l = tether.segment_length
+            self.L = tether.length
+            self.EA = math.inf if EA is None else float(EA)
+            self.d = tether.diameter
+            self.A = tether.area
+            self.mu = tether.mu
+            self.cdn = tether.cd_normal
+            self.cdt_pi = math.pi * tether.cd_tangential
+            self.l_e, self.EA_e, self.d_e = np.full(N, self.l), np.full(N, self.EA), np.full(N, self.d)
+            self.A_e, self.mu_e = np.full(N, self.A), np.full(N, self.mu)
+            self.cdn_e, self.cdt_pi_e = np.full(N, self.cdn), np.full(N, self.cdt_pi)
+            self.s_node = np.arange(N + 1) * self.l
+            return
+        line: LineMakeup = tether
+        self.makeup = line
+        self.N = N = line.segments
+        self.L = line.length
+        self.l_e = line.element_length
+        if EA == "tether":
+            self.EA_e = line.element_EA
+        else:
+            self.EA_e = np.full(N, math.inf if EA is None else float(EA))
+        self.d_e = line.element_diameter
+        self.A_e = line.element_area
+        self.mu_e = line.element_mass_per_length
+        self.cdn_e = line.element_cd_normal
+        self.cdt_pi_e = math.pi * line.element_cd_tangential
+        self.s_node = line.node_arc_length
+        if np.any(line.element_float_cd_area > 0):
+            self.float_cda = line.element_float_cd_area
+        if line.has_point_loads:
+            self.node_loads = (line.node_mass, line.node_volume, line.node_cd_area)
+        if line.is_uniform:  # the scalars of the uniform path (the slack state uses them)
+            self.l, self.EA, self.d, self.A = float(self.l_e[0]), float(self.EA_e[0]), float(self.d_e[0]), float(self.A_e[0])
+            self.mu, self.cdn, self.cdt_pi = float(self.mu_e[0]), float(self.cdn_e[0]), float(self.cdt_pi_e[0])
+        else:
+            self.l = self.EA = self.d = self.A = self.mu = self.cdn = self.cdt_pi = None
+        # buoyant parts cannot lie on the seabed: the touchdown comes after the last of them
+        self.w_sb = self.seabed_weight(self.mu_e, self.A_e)
+        buoyant = [e + 1 for e in np.flatnonzero(self.w_sb < 0.0)]
+        if self.node_loads is not None:
+            self.W_sb = self.seabed_weight(self.node_loads[0], self.node_loads[1])
+            buoyant += list(np.flatnonzero(self.W_sb < 0.0))
+        else:
+            self.W_sb = np.zeros(N + 1)
+        self.k_min = int(max(buoyant, default=0))
 
-    def loads(self, x0, t, l_s):
-        """External load (N) on elements starting at ``x0`` (K, 3) with tangents ``t`` (K, 3)
+    def seabed_weight(self, mass, volume):
+        """Submerged weight (N or N/m) of ``mass`` and ``volume`` at the seabed's density."""
+        rho = float(self.water.rho(np.array([self.water.seabed_z]))[0])
+        return (np.asarray(mass) - rho * np.asarray(volume)) * self.g
+
+    def loads(self, x0, t, l_s, k=0):
+        """External load (N) on elements ``k`` starting at ``x0`` (K, 3) with tangents ``t`` (K, 3)
         and stretched lengths ``l_s`` (K,)."""
+        l, d, A, mu = self.l_e[k], self.d_e[k], self.A_e[k], self.mu_e[k]
         z0 = x0[:, 2]
         z1 = z0 + l_s * t[:, 2]
         if z0.max() <= 0.0 and z1.max() <= 0.0:  # fully wet, the usual case
             zc = 0.5 * (z0 + z1)
-            l_wet = self.l
+            l_wet = l
         else:
             zc = np.minimum(0.5 * (z0 + z1), 0.0)
-            l_wet = self.l * wet_fraction(z0, z1)[0]
+            l_wet = l * wet_fraction(z0, z1)[0]
         rho = self.water.rho(zc)
         u = self.water.velocity(zc) - self.v_tow
         ut = (u * t).sum(axis=1)
         un = u - ut[:, None] * t
-        q = 0.5 * self.d * l_wet * rho
-        f = (q * self.cdn * np.sqrt((un * un).sum(axis=1)))[:, None] * un
-        f += (q * self.cdt_pi * np.abs(ut) * ut)[:, None] * t
-        f[:, 2] += (rho * self.A * l_wet - self.mu * self.l) * self.g
+        q = 0.5 * d * l_wet * rho
+        f = (q * self.cdn_e[k] * np.sqrt((un * un).sum(axis=1)))[:, None] * un
+        f += (q * self.cdt_pi_e[k] * np.abs(ut) * ut)[:, None] * t
+        f[:, 2] += (rho * A * l_wet - mu * l) * self.g
+        if self.float_cda is not None and self.float_cda[k] > 0.0:  # the floats' own normal drag
+            f += (0.5 * self.float_cda[k] * l_wet * rho * np.sqrt((un * un).sum(axis=1)))[:, None] * un
         return f
 
-    def march(self, x0, P0, stop_on_touchdown=False, iterations=2):
+    def node_load(self, x, j):
+        """Point load (N) on node ``j`` at positions ``x`` (K, 3): weight, buoyancy (under water
+        only) and drag 1/2 rho CdA |u| u on the relative velocity; ``None`` if the node has none."""
+        if self.node_loads is None:
+            return None
+        m, V, cda = (a[j] for a in self.node_loads)
+        if m == 0.0 and V == 0.0 and cda == 0.0:
+            return None
+        z = x[:, 2]
+        zc = np.minimum(z, 0.0)
+        wet = (z <= 0.0).astype(float)
+        rho = self.water.rho(zc)
+        g = np.zeros((x.shape[0], 3))
+        g[:, 2] = (rho * V * wet - m) * self.g
+        if cda > 0.0:
+            u = self.water.velocity(zc) - self.v_tow
+            g += (0.5 * rho * cda * wet * np.sqrt((u * u).sum(axis=1)))[:, None] * u
+        return g
+
+    def march(self, x0, P0, stop_on_touchdown=False, iterations=2, start=0, first_frac=1.0, allow_first=True,
+              own_load=True):
         """March the N elements from node positions ``x0`` with forces ``P0`` (K, 3).
 
-        Returns (nodes (K, n+1, 3), tension (K, n), P (K, n+1, 3)). With
-        ``stop_on_touchdown`` the march of each shot also records the first element where the
-        vertical component of P becomes >= 0 (returned as the fourth item, -1 if never).
+        Returns (nodes (K, n+1, 3), tension (K, n), P (K, n+1, 3)); P excludes the point load on
+        its own node (``P0`` includes node 0's: it is the top force). With
+        ``stop_on_touchdown`` the march of each shot also records the first element k (from
+        ``k_min`` on) where the vertical component of P becomes >= 0 (P_k,z < 0 <= P_k+1,z, or
+        just P_k+1,z >= 0 at k = k_min with ``allow_first``), returned as the fourth item, -1 if
+        never. Make-ups only: a march may start at node ``start`` (``x0`` is then the point where
+        it starts, ``P0`` the force there, already net of any point load there when not
+        ``own_load``) with a first element of fraction ``first_frac``; the fifth item is the
+        point loads on the nodes (K, n+1, 3).
         """
         n = self.N
         K = x0.shape[0]
         X = np.empty((K, n + 1, 3))
         P = np.empty((K, n + 1, 3))
         T = np.empty((K, n))
-        X[:, 0], P[:, 0] = x0, P0
+        X[:, start], P[:, start] = x0, P0
+        G = np.zeros((K, n + 1, 3)) if self.makeup is not None else None
+        if start == 0 and own_load:
+            g0 = self.node_load(X[:, 0], 0)
+            if g0 is not None:
+                G[:, 0] = g0
+                P[:, 0] = P0 - g0
         td = np.full(K, -1)
+        k_min = max(self.k_min, start)
         f = np.zeros((K, 3))
-        f[:, 2] = -self.mu * self.l * self.g
-        for k in range(n):
+        f[:, 2] = -self.mu_e[start] * self.l_e[start] * self.g
+        for k in range(start, n):
             p = P[:, k]
-            for _ in range(iterations):
-                E = p - 0.5 * f
-                Tk = np.sqrt((E * E).sum(axis=1))
-                t = E / np.maximum(Tk, 1e-300)[:, None]
-                l_s = self.l * (1.0 + Tk / self.EA)
-                f = self.loads(X[:, k], t, l_s)
+            l, EA = self.l_e[k], self.EA_e[k]
+            if k == start and first_frac != 1.0:
+                frac = first_frac
+                for _ in range(iterations):
+                    E = p - 0.5 * frac * f
+                    Tk = np.sqrt((E * E).sum(axis=1))
+                    t = E / np.maximum(Tk, 1e-300)[:, None]
+                    l_s = frac * l * (1.0 + Tk / EA)
+                    f = self.loads(X[:, k], t, l_s, k)
+                f = frac * f
+            else:
+                for _ in range(iterations):
+                    E = p - 0.5 * f
+                    Tk = np.sqrt((E * E).sum(axis=1))
+                    t = E / np.maximum(Tk, 1e-300)[:, None]
+                    l_s = l * (1.0 + Tk / EA)
+                    f = self.loads(X[:, k], t, l_s, k)
             T[:, k] = Tk
             X[:, k + 1] = X[:, k] + l_s[:, None] * t
-            P[:, k + 1] = p - f
-            if stop_on_touchdown:
+            g = self.node_load(X[:, k + 1], k + 1)
+            if g is None:
+                P[:, k + 1] = p - f
+            else:
+                G[:, k + 1] = g
+                P[:, k + 1] = p - f - g
+            if stop_on_touchdown and k >= k_min:
                 new = (td < 0) & (P[:, k + 1, 2] >= 0.0)
+                if not (k == k_min and allow_first):
+                    new &= P[:, k, 2] < 0.0
                 td[new] = k
+        if self.makeup is not None:
+            return X, T, P, td, G
         if stop_on_touchdown:
             return X, T, P, td
         return X, T, P
@@ -258,7 +398,211 @@ def _lay(cable: _Cable, X, T, P, k, seabed_z, cb):
     return nodes, tension, bottom_force, s_td, LB, slack
 
 
-def steady_state(tether: TetherSpec, water: WaterColumn, top, bottom=None, *, top_force=None,
+def _laid_profile(cable: _Cable, s0: float, direction: int, length: float, H: float, cb: float):
+    """A straight laid stretch of a make-up: from arc length ``s0`` (tension ``H`` there) for
+    ``length`` (m, unstretched) towards larger (``direction`` +1) or smaller (-1) arc lengths,
+    its tension falling by cb w per metre (w: each element's wet weight at the seabed, >= 0) and
+    by cb W at each laid node with a point load of wet weight W > 0, never below zero.
+
+    Returns (idx, S, S_end, tension_at, T_end, slack): the nodes strictly inside the stretch (in
+    the order met), their stretched distances (m) from ``s0``, the stretched length of the whole
+    stretch, a function giving the tension (N) at unstretched distances from ``s0``, the tension
+    at the far end, and the unstretched length at zero tension."""
+    s, N = cable.s_node, cable.N
+    eps = 1e-12 * max(cable.L, 1.0)
+    if direction > 0:
+        idx = np.flatnonzero((s > s0 + eps) & (s < s0 + length - eps))
+        u_in = s[idx] - s0
+    else:
+        idx = np.flatnonzero((s < s0 - eps) & (s > s0 - length + eps))[::-1]
+        u_in = s0 - s[idx]
+    b = np.concatenate([[0.0], u_in, [max(length, 0.0)]])
+    n_p = len(b) - 1
+    mids = s0 + direction * 0.5 * (b[:-1] + b[1:])
+    e = np.clip(np.searchsorted(s, mids, side="right") - 1, 0, N - 1)
+    c = cb * np.maximum(cable.w_sb[e], 0.0)
+    EA = cable.EA_e[e]
+    drops = cb * np.maximum(cable.W_sb[idx], 0.0)
+    T0 = np.empty(n_p)
+    S = np.zeros(n_p + 1)
+    T, slack = float(H), 0.0
+    for i in range(n_p):
+        if i > 0:
+            T = max(T - drops[i - 1], 0.0)
+        T0[i] = T
+        D = b[i + 1] - b[i]
+        if c[i] > 0.0:
+            uc = min(D, T / c[i])
+            integral = T * uc - c[i] * uc * uc / 2
+            slack += D - uc
+            T = max(T - c[i] * D, 0.0)
+        else:
+            integral = T * D
+            slack += D if T <= 0.0 else 0.0
+        S[i + 1] = S[i] + D + integral / EA[i]
+
+    def tension_at(u):
+        u = np.asarray(u, dtype=float)
+        i = np.clip(np.searchsorted(b, u, side="right") - 1, 0, n_p - 1)
+        return np.maximum(T0[i] - c[i] * (u - b[i]), 0.0)
+
+    return idx, S[1:-1], float(S[-1]), tension_at, T, slack
+
+
+def _lay_makeup(cable: _Cable, X, T, P, G, k, seabed_z, cb):
+    """``_lay`` for a make-up: cut the march at the touchdown inside element ``k`` (or on node
+    k + 1, where a point load takes P_z over zero) and lay the rest straight on the seabed.
+
+    Returns (nodes, tension, bottom force, touchdown arc length, laid length, length of it at zero
+    tension, height of the touchdown point)."""
+    f = P[k] - P[k + 1] - G[k + 1]  # element k's load
+    phi = float(np.clip(P[k, 2] / f[2], 0.0, 1.0)) if f[2] != 0.0 else 1.0
+    x_td = X[k] + phi * (X[k + 1] - X[k])
+    s_td = float(cable.s_node[k] + phi * cable.l_e[k])
+    p_td = P[k] - phi * f
+    H = math.hypot(p_td[0], p_td[1])
+    e = np.array([p_td[0], p_td[1], 0.0]) / max(H, 1e-300)
+    LB = max(cable.L - s_td, 0.0)
+    idx, S, S_end, tension_at, T_end, slack = _laid_profile(cable, s_td, +1, LB, H, cb)
+    nodes = X.copy()
+    x_lay = x_td.copy()
+    x_lay[2] = seabed_z
+    nodes[idx] = x_lay + np.outer(S, e)
+    nodes[-1] = x_lay + S_end * e
+    tension = T.copy()
+    s_mid = cable.s_node[:-1] + 0.5 * cable.l_e
+    lay_el = s_mid > s_td
+    tension[lay_el] = tension_at(s_mid[lay_el] - s_td)
+    # as in _lay: the node before the touchdown can sit a little below the seabed; hold it there
+    nodes[:, 2] = np.maximum(nodes[:, 2], seabed_z)
+    return nodes, tension, -T_end * e, s_td, LB, slack, float(x_td[2])
+
+
+def _liftoff(cable: _Cable, F, top, cb: float):
+    """The laid start of a make-up whose top end is on the seabed, from the shooting parameter
+    ``F`` (3,): with F_z >= 0 the line leaves the top end with force F (``None`` is returned);
+    with F_z < 0 a length s_lo lies on the seabed from the top, the one whose wet weight is -F_z
+    (point loads included; a partly lifted one at the lift-off node), and the line lifts off
+    there with horizontal force (F_x, F_y): this keeps the shot continuous in F.
+
+    Returns a dict: start (node the march starts from), frac (fraction of its first element
+    still to march), x (lift-off point), p (force there), s_lo, e (horizontal direction), and
+    the laid part's nodes, positions and tension."""
+    D = -float(F[2])
+    if not D > 0.0:
+        return None
+    s, N = cable.s_node, cable.N
+    start, frac, Pz = N - 1, 1.0, 0.0
+    for e_ in range(N):
+        w, l = cable.w_sb[e_], cable.l_e[e_]
+        if w <= 0.0:  # a buoyant or neutral element does not lie on the seabed
+            start = e_
+            break
+        if D < w * l * (1.0 - 1e-12):
+            start, frac = e_, 1.0 - D / (w * l)
+            break
+        D = max(D - w * l, 0.0)
+        if e_ + 1 >= N:
+            break
+        W = cable.W_sb[e_ + 1]
+        if W < 0.0 or D <= W:  # lift-off at node e_ + 1 (a point load there partly lifted)
+            start, Pz = e_ + 1, (max(W - D, 0.0) if W >= 0.0 else 0.0)
+            break
+        D -= W
+    s_lo = float(s[start] + (1.0 - frac) * cable.l_e[start])
+    H = math.hypot(F[0], F[1])
+    e = np.array([F[0], F[1], 0.0]) / H if H > 0.0 else np.array([1.0, 0.0, 0.0])
+    profile = _laid_profile(cable, s_lo, -1, s_lo, H, cb)
+    return dict(start=start, frac=frac, s_lo=s_lo, e=e, H=H, p=np.array([F[0], F[1], Pz]),
+                x=top + profile[2] * e, profile=profile)
+
+
+def _lay_top(cable: _Cable, lift: dict, top, X, T, P):
+    """Fill the laid top part of one make-up march in place: its nodes, tensions and forces.
+    Returns the force on the top end (N)."""
+    s_lo, e, start = lift["s_lo"], lift["e"], lift["start"]
+    idx, S, S_end, tension_at, T_end, _ = lift["profile"]
+    x_lo = lift["x"]
+    X[idx] = x_lo - np.outer(S, e)
+    X[0] = top
+    s_mid = cable.s_node[:-1] + 0.5 * cable.l_e
+    lay_el = s_mid < s_lo
+    T[lay_el] = tension_at(s_lo - s_mid[lay_el])
+    P[:start] = lift["p"]
+    return T_end * e
+
+
+def _shoot_makeup(cable: _Cable, pb: dict, F: np.ndarray):
+    """``_shoot`` for a make-up: residuals (K, 3) and, per shot, a dict of the finished state."""
+    K = F.shape[0]
+    top, cb = pb["top"], pb["cb"]
+    marches = []
+    if pb.get("top_contact"):
+        for j in range(K):
+            lift = _liftoff(cable, F[j], top, cb)
+            if lift is None:
+                X, T, P, td, G = cable.march(top[None], F[j][None], stop_on_touchdown=True, allow_first=False)
+                marches.append((X[0], T[0], P[0], int(td[0]), G[0], None, F[j].copy()))
+                continue
+            X, T, P, td, G = cable.march(lift["x"][None], lift["p"][None], stop_on_touchdown=True,
+                                         start=lift["start"], first_frac=lift["frac"], allow_first=False,
+                                         own_load=False)
+            X, T, P = X[0], T[0], P[0]
+            top_f = _lay_top(cable, lift, top, X, T, P)
+            marches.append((X, T, P, int(td[0]), G[0], lift, top_f))
+    else:
+        X, T, P, td, G = cable.march(np.tile(top, (K, 1)), F, stop_on_touchdown=True)
+        marches = [(X[j], T[j], P[j], int(td[j]), G[j], None, F[j].copy()) for j in range(K)]
+    r = np.empty((K, 3))
+    shots = []
+    for j, (X, T, P, k, G, lift, top_f) in enumerate(marches):
+        shot = dict(X=X, T=T, P=P, td=k, lift=lift, top_force=top_f, nodes=X, tension=T,
+                    bottom_force=-P[-1], s_td=None, LB=0.0, slack=0.0)
+        if pb["contact"] and k >= 0:
+            nodes, tension, bot_f, s_td, LB, slack, z_td = _lay_makeup(cable, X, T, P, G, k, pb["seabed_z"], cb)
+            shot.update(nodes=nodes, tension=tension, bottom_force=bot_f, s_td=s_td, LB=LB, slack=slack)
+            r[j] = nodes[-1] - pb["bottom"]
+            r[j, 2] = z_td - pb["seabed_z"]  # touchdown height
+        else:
+            r[j] = X[-1] - pb["bottom"]
+        shots.append(shot)
+    return r, shots
+
+
+def _makeup_state(cable: _Cable, pb: dict, F, J, shot: dict, r, vel) -> SteadyState:
+    """The ``SteadyState`` of a converged make-up shot, after checking that the suspended part
+    does not pass below the seabed (by more than 1 mm, or 2 % of the longest element next to a
+    touchdown or lift-off, where the discrete line may dip a little under the continuous one)."""
+    seabed_z = pb["seabed_z"]
+    lift = shot["lift"]
+    first = lift["start"] + 1 if lift is not None else 0
+    td = shot["td"] if pb["contact"] and shot["td"] >= 0 else -1
+    last = td if td >= 0 else cable.N
+    z = shot["X"][first:last + 1, 2]
+    allow = np.full(z.shape, 1e-3)
+    near = 0.02 * float(np.max(cable.l_e))
+    if td >= 0 and len(z):
+        allow[-2:] = max(1e-3, near)
+    if lift is not None and len(z):
+        allow[:2] = max(1e-3, near)
+    if pb["seabed"] and len(z) and np.any(z < seabed_z - allow):
+        raise ValueError("steady_state: the cable would rest on the seabed between its two ends, which is "
+                         "not modelled; raise the bottom end onto the seabed or pass seabed=False")
+    return SteadyState(shot["nodes"], shot["tension"], shot["top_force"], shot["bottom_force"], shot["s_td"],
+                       shot["LB"], vel, float(np.linalg.norm(r)), J, shot["slack"],
+                       lift["s_lo"] if lift is not None else 0.0)
+
+
+def _coarse(tether):
+    """A coarser version of ``tether`` (about 1/8 of its elements) for the cascade."""
+    n = max(tether.segments // 8, MIN_COARSE_SEGMENTS)
+    if isinstance(tether, TetherSpec):
+        return replace(tether, segments=n)
+    sections = tuple(replace(s, segments=max(1, round(s.segments * n / tether.segments))) for s in tether.sections)
+    return LineMakeup(sections, tether.loads)
+
+
+def steady_state(tether: TetherSpec | LineMakeup, water: WaterColumn, top, bottom=None, *, top_force=None,
                  bottom_force=None, tow_velocity=(0.0, 0.0, 0.0), seabed: bool = True,
                  seabed_friction: float = 0.0, EA="tether", tol: float = 1e-7,
                  max_iterations: int = 60, guess=None, layout: str = "straight", layout_direction=None,
@@ -279,7 +623,8 @@ def steady_state(tether: TetherSpec, water: WaterColumn, top, bottom=None, *, to
         seabed_friction: Coulomb coefficient cb of the laid cable (>= 0).
         EA: axial stiffness (N); by default the tether's own (``None`` = inextensible).
         tol: required distance of the last node from ``bottom``, relative to the length.
-        guess: optional starting force of the cable on the top end (N).
+        guess: optional starting force of the cable on the top end (N) (for a make-up whose top
+            end is on the seabed: the shooting parameter F of the module docstring).
         layout: shape of slack cable on the seabed: "straight", "arc" or "s" (module
             docstring); used only when the cable is slack.
         layout_direction: horizontal direction (world, 2 or 3 numbers; z is ignored; any
@@ -288,18 +633,25 @@ def steady_state(tether: TetherSpec, water: WaterColumn, top, bottom=None, *, to
         layout_angle: total turn of the slack cable (rad, in (0, 2 pi)), left (counter-clockwise
             seen from above) for "arc", +/- half of it for "s".
 
+    ``tether`` is a uniform ``TetherSpec`` or a ``LineMakeup`` (sections, point loads, float
+    sections; see "Line make-ups" in the module docstring). For a make-up, ``EA`` = "tether"
+    takes each section's own EA, a number or ``None`` replaces them all.
+
     Raises ``ValueError`` on bad input or when the cable would rest on the seabed between two
-    suspended parts (mid-span touchdown is not modelled), ``RuntimeError`` if Newton fails.
+    suspended parts (mid-span touchdown is not modelled), ``RuntimeError`` if Newton fails,
+    ``NotImplementedError`` for a non-uniform make-up that finds no taut solution with its bottom
+    end on the seabed (it may be slack there, which is modelled for uniform lines only).
     """
-    if not isinstance(tether, TetherSpec):
-        raise ValueError(f"tether must be a TetherSpec, got {type(tether).__name__}")
+    makeup = tether if isinstance(tether, LineMakeup) else None
+    if makeup is None and not isinstance(tether, TetherSpec):
+        raise ValueError(f"tether must be a TetherSpec or a LineMakeup, got {type(tether).__name__}")
     if not isinstance(water, WaterColumn):
         raise ValueError(f"water must be a WaterColumn, got {type(water).__name__}")
     v_tow = _checks.vector3("steady_state.tow_velocity", tow_velocity)
     cb = _checks.non_negative("steady_state.seabed_friction", seabed_friction)
     _checks.positive("steady_state.tol", tol)
     if EA == "tether":
-        EA = tether.EA
+        EA = tether.EA if makeup is None else "tether"
     elif EA is not None:
         EA = _checks.positive("steady_state.EA", EA, "N")
     if not isinstance(layout, str) or layout not in LAYOUTS:
@@ -329,7 +681,11 @@ def steady_state(tether: TetherSpec, water: WaterColumn, top, bottom=None, *, to
         x0 = _checks.vector3("steady_state.bottom" if upward else "steady_state.top", bottom if upward else top)
         F = _checks.vector3("steady_state.bottom_force" if upward else "steady_state.top_force",
                             bottom_force if upward else top_force)
-        X, T, P = cable.march(x0[None], F[None])
+        if makeup is None:
+            X, T, P = cable.march(x0[None], F[None])
+        else:  # a make-up marched up is the reversed make-up marched down
+            c = _Cable(makeup.reversed(), water, v_tow, EA) if upward else cable
+            X, T, P, *_ = c.march(x0[None], F[None])
         X, T, P = X[0], T[0], P[0]
         if upward:
             X, T = X[::-1], T[::-1]
@@ -355,15 +711,27 @@ def steady_state(tether: TetherSpec, water: WaterColumn, top, bottom=None, *, to
                          f"{chord:.6g} m between its ends")
     contact = bool(seabed) and abs(bottom[2] - seabed_z) <= 1e-3
     problem = dict(top=top, bottom=bottom, contact=contact, seabed_z=seabed_z, cb=cb, seabed=bool(seabed))
+    if makeup is not None:
+        problem["top_contact"] = bool(seabed) and abs(top[2] - seabed_z) <= 1e-3
     guess = None if guess is None else _checks.vector3("steady_state.guess", guess)
-    if contact:  # slack if it can be (module docstring), else straight-laid
+    uniform = makeup is None or makeup.is_uniform
+    if contact and uniform:  # slack if it can be (module docstring), else straight-laid
         ss = _slack_state(cable, top, bottom, seabed_z, (layout, layout_b, layout_angle), tol, max_iterations, vel)
         if ss is not None:
             return ss
-    return _straight_state(tether, water, v_tow, EA, problem, guess, tol, max_iterations, vel)
+    if uniform or not contact:
+        return _straight_state(tether, water, v_tow, EA, problem, guess, tol, max_iterations, vel)
+    try:
+        return _straight_state(tether, water, v_tow, EA, problem, guess, tol, max_iterations, vel)
+    except RuntimeError as exc:
+        raise NotImplementedError(
+            "steady_state: no taut (straight-laid) steady state found for this line make-up with its bottom "
+            f"end on the seabed ({exc}). The line may be slack there (too long to lie taut between the "
+            "touchdown and the bottom end), which is modelled for uniform lines only; shorten the line, move "
+            "the bottom end away, or give a starting top force (guess=...)") from exc
 
 
-def _cascade(tether: TetherSpec, water: WaterColumn, v_tow, EA, pb: dict, guess, tol: float,
+def _cascade(tether, water: WaterColumn, v_tow, EA, pb: dict, guess, tol: float,
              max_iterations: int, first_guess):
     """Newton on the top force for problem ``pb``, started from ``guess`` or, for fine tethers,
     from the solve of a coarse one (the top force converges as 1/N^2, so a coarse solve gives an
@@ -374,7 +742,7 @@ def _cascade(tether: TetherSpec, water: WaterColumn, v_tow, EA, pb: dict, guess,
     if guess is not None:
         F = guess
     elif tether.segments >= 4 * MIN_COARSE_SEGMENTS:
-        coarse = replace(tether, segments=max(tether.segments // 8, MIN_COARSE_SEGMENTS))
+        coarse = _coarse(tether)
         try:
             _, F, J, *_ = _cascade(coarse, water, v_tow, EA, pb, None, max(tol, 1e-5), max_iterations, first_guess)
         except RuntimeError:  # too coarse to resolve the shape: start from scratch at this N
@@ -388,7 +756,10 @@ def _straight_state(tether, water, v_tow, EA, pb, guess, tol, max_iterations, ve
     """The two-point solve with any laid part straight (see the module docstring)."""
     seabed_z, contact = pb["seabed_z"], pb["contact"]
     cable, F, J, shot, r = _cascade(tether, water, v_tow, EA, pb, guess, tol, max_iterations,
-                                    lambda c: _first_guess(c, pb["top"], pb["bottom"], contact, pb["cb"]))
+                                    lambda c: _first_guess(c, pb["top"], pb["bottom"], contact, pb["cb"],
+                                                           pb.get("top_contact", False)))
+    if cable.makeup is not None:
+        return _makeup_state(cable, pb, F, J, shot, r, vel)
     X, T, P, td = shot
     if contact and td >= 0:
         nodes, tension, bot_f, s_td, LB, slack = _lay(cable, X, T, P, td, seabed_z, pb["cb"])
@@ -554,6 +925,8 @@ def _slack_state(cable: _Cable, top, bottom, seabed_z, layout_args, tol: float, 
 
 def _shoot(cable: _Cable, pb: dict, F: np.ndarray):
     """Residuals (m), shape (K, 3), of the shots with top forces ``F`` (K, 3), and the marches."""
+    if cable.makeup is not None:
+        return _shoot_makeup(cable, pb, F)
     K = F.shape[0]
     X, T, P, td = cable.march(np.tile(pb["top"], (K, 1)), F, stop_on_touchdown=True)
     r = np.empty((K, 3))
@@ -572,15 +945,28 @@ def _shoot(cable: _Cable, pb: dict, F: np.ndarray):
 def _force_scale(cable: _Cable, top, bottom) -> float:
     """A force (N) of the order of the tether's loads: weight or drag on its whole length."""
     zs = np.linspace(min(top[2], 0.0), min(bottom[2], 0.0), 8)
+    if cable.makeup is not None:
+        rho = float(cable.water.rho(zs[4:5])[0])
+        u = float(np.max(np.linalg.norm(cable.water.velocity(zs) - cable.v_tow, axis=1)))
+        w = float(np.max(np.abs(cable.mu_e - rho * cable.A_e))) * cable.g
+        drag = float(np.max(cable.cdn_e * cable.d_e))
+        if cable.node_loads is not None:
+            m, V, cda = cable.node_loads
+            w += float(np.sum(np.abs(m - rho * V))) * cable.g / cable.L
+            drag += float(np.sum(cda)) / cable.L
+        return max(w, 0.5 * rho * drag * u * u, 1e-3) * cable.L
     rho = float(cable.water.rho(zs[4:5])[0])
     w = abs(cable.mu - rho * cable.A) * cable.g
     u = float(np.max(np.linalg.norm(cable.water.velocity(zs) - cable.v_tow, axis=1)))
     return max(w, 0.5 * rho * cable.cdn * cable.d * u * u, 1e-3) * cable.L
 
 
-def _first_guess(cable: _Cable, top, bottom, contact: bool = False, cb: float = 0.0) -> np.ndarray:
+def _first_guess(cable: _Cable, top, bottom, contact: bool = False, cb: float = 0.0,
+                 top_contact: bool = False) -> np.ndarray:
     """The analytic catenary's top force (no current, mean density), when it applies; else half
     the weight down plus the force scale along the chord."""
+    if cable.makeup is not None:
+        return _first_guess_makeup(cable, top, bottom, contact, cb, top_contact)
     d = bottom - top
     w = (cable.mu - float(cable.water.rho(np.array([0.5 * (top[2] + bottom[2])]))[0]) * cable.A) * cable.g
     if w > 0 and top[2] >= bottom[2] and np.hypot(d[0], d[1]) > 1e-6 * cable.L:
@@ -594,6 +980,35 @@ def _first_guess(cable: _Cable, top, bottom, contact: bool = False, cb: float = 
         _force_scale(cable, top, bottom)
 
 
+def _first_guess_makeup(cable: _Cable, top, bottom, contact: bool, cb: float, top_contact: bool) -> np.ndarray:
+    """``_first_guess`` for a make-up: the catenary of its mean wet weight (point loads
+    included) and series stiffness; with the top end on the seabed, half the mean weight on the
+    seabed there (the shooting parameter of ``_liftoff``) and the force scale along the chord."""
+    d = bottom - top
+    rho = float(cable.water.rho(np.array([0.5 * (top[2] + bottom[2])]))[0])
+    W = float(np.sum((cable.mu_e - rho * cable.A_e) * cable.l_e)) * cable.g
+    if cable.node_loads is not None:
+        W += float(np.sum(cable.node_loads[0] - rho * cable.node_loads[1])) * cable.g
+    w = W / cable.L
+    compliance = float(np.sum(cable.l_e / cable.EA_e))
+    EA = cable.L / compliance if compliance > 0.0 else None
+    if not top_contact and w > 0 and top[2] >= bottom[2] and np.hypot(d[0], d[1]) > 1e-6 * cable.L:
+        try:
+            return catenary(bottom, top, cable.L, w, EA=EA, cb=cb, seabed=contact).fairlead_force
+        except (ValueError, RuntimeError):
+            pass
+    return 0.5 * abs(w) * cable.L * np.array([0.0, 0.0, -1.0]) + d / max(np.linalg.norm(d), 1e-9) * 0.5 * \
+        _force_scale(cable, top, bottom)
+
+
+def _first_shot(shots):
+    """The first shot of a ``_shoot``: (X, T, P, td) for a TetherSpec, the state dict for a make-up."""
+    if isinstance(shots, list):
+        return shots[0]
+    X, T, P, td = shots
+    return X[0], T[0], P[0], int(td[0])
+
+
 def _solve_top_force(cable: _Cable, pb: dict, F, J, tol: float, max_iterations: int):
     """Newton's method on the top force with a backtracking line search. With a starting
     Jacobian ``J`` (from a coarser solve) it first tries chord steps, which need one march each.
@@ -603,12 +1018,12 @@ def _solve_top_force(cable: _Cable, pb: dict, F, J, tol: float, max_iterations: 
 
     def with_jacobian(F):
         h = 1e-6 * max(np.linalg.norm(F), scale * 1e-3)
-        rs, (X, T, P, td) = _shoot(cable, pb, np.vstack([F, F + h * np.eye(3)]))
-        return rs[0], (rs[1:] - rs[0]).T / h, (X[0], T[0], P[0], int(td[0]))
+        rs, shots = _shoot(cable, pb, np.vstack([F, F + h * np.eye(3)]))
+        return rs[0], (rs[1:] - rs[0]).T / h, _first_shot(shots)
 
     def single(F):
-        rs, (X, T, P, td) = _shoot(cable, pb, F[None])
-        return rs[0], (X[0], T[0], P[0], int(td[0]))
+        rs, shots = _shoot(cable, pb, F[None])
+        return rs[0], _first_shot(shots)
 
     if J is None:
         r, J, shot = with_jacobian(F)
