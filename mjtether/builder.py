@@ -78,6 +78,7 @@ import numpy as np
 
 from . import _checks, dispatch
 from .analytic import sagged_polyline
+from .makeup import LineMakeup
 from .tether import TetherSpec
 from .water import WaterColumn
 
@@ -258,6 +259,7 @@ class TetherModel:
     connects: dict = field(default_factory=dict)  # "end" -> equality name; "start": one per node
     max_length: float = 0.0
     seabed_friction: float | None = None  # Coulomb coefficient on the seabed; None: no contact
+    makeup: LineMakeup | None = None  # the sections and point loads, for a non-uniform line
     userdata_adr: int = -1  # where the nodes' stick points (3 per node) start in MuJoCo's userdata
 
     @property
@@ -289,6 +291,16 @@ def anchor_position(spec: mujoco.MjSpec, anchor: Anchor) -> np.ndarray | None:
     if sid < 0:
         raise ValueError(f"SitePoint.site: no site named {anchor.site!r} in the spec")
     return data.site_xpos[sid].copy()
+
+
+def _reference_spec(makeup: LineMakeup) -> TetherSpec:
+    """A uniform TetherSpec of a make-up's length and element count, for what the builder sizes
+    once (the flex's radius: the widest section's; the initial masses, which ``BoundTether``
+    sets per element and node)."""
+    d = makeup.element_diameter
+    mu = makeup.element_mass_per_length
+    return TetherSpec(length=makeup.length, segments=makeup.segments, diameter=float(d.max()),
+                      mass_per_length=float(np.average(mu, weights=makeup.element_length)))
 
 
 def drum_capacity(tether: TetherSpec, max_length: float | None) -> int:
@@ -341,8 +353,15 @@ def add_tether(
     """
     if seabed_friction is not None:
         _checks.non_negative("seabed_friction", seabed_friction)
+    makeup = None
+    if isinstance(tether, LineMakeup):  # sections and point loads (see mjtether.makeup)
+        makeup, tether = tether, _reference_spec(tether)
+        if max_length is not None and max_length > makeup.length * (1 + 1e-9):
+            raise ValueError("max_length: payout of a line make-up is not supported yet (its length is fixed)")
+        if nodes is None:
+            raise ValueError("nodes: give the start shape of a line make-up (e.g. steady_state(makeup, ...).nodes)")
     if not isinstance(tether, TetherSpec):
-        raise ValueError(f"tether must be a TetherSpec, got {type(tether).__name__}")
+        raise ValueError(f"tether must be a TetherSpec or a LineMakeup, got {type(tether).__name__}")
     for label, a in (("start", start), ("end", end)):
         if not isinstance(a, (FixedPoint, BodyPoint, SitePoint, FreeEnd)):
             raise ValueError(f"{label} must be FixedPoint, BodyPoint, SitePoint or FreeEnd, got {a!r}")
@@ -430,7 +449,8 @@ def add_tether(
 
     tm = TetherModel(name=name, spec=tether, start=start, end=end, node_bodies=body_names, n=n, first=first,
                      nominal_length=l0, initial_nodes=all_nodes,
-                     max_length=float(max(L, max_length or 0.0)), seabed_friction=seabed_friction)
+                     max_length=float(max(L, max_length or 0.0)), seabed_friction=seabed_friction,
+                     makeup=makeup)
     if seabed_friction is not None:  # the nodes' stick points on the seabed (see mjtether.seabed)
         tm.userdata_adr = spec.nuserdata
         spec.nuserdata += 3 * (n + 1)

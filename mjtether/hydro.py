@@ -60,6 +60,8 @@ def tether_loads(
     current_fn,
     gravity: float = 9.81,
     first_share: float = 0.5,
+    area=None,
+    float_cd_area=None,
 ) -> np.ndarray:
     """Hydrodynamic loads on the nodes of a tether (N, world frame), shape ``(N+1, 3)``.
 
@@ -71,6 +73,9 @@ def tether_loads(
         first_share: the part of the first element's load that goes to node 0 (the rest to
             node 1); every other element shares its load equally (the drum element at a
             fairlead lumps its mass the same way, see ``simulation.BoundTether``).
+        diameter, cd_normal, cd_tangential: scalars, or one per element (a line make-up).
+        area: displaced volume per metre of each element (m^2) if not pi d^2 / 4 (floats on it).
+        float_cd_area: extra normal drag area per metre of each element (m^2/m: floats), or None.
     """
     _, _, t = element_geometry(x)
     zc = np.minimum(0.5 * (x[1:, 2] + x[:-1, 2]), 0.0)
@@ -84,10 +89,16 @@ def tether_loads(
     vn_mag = np.sqrt(np.einsum("ij,ij->i", vn, vn))
     # each of the element's two nodes takes half of its drag: q = 1/2 (1/2 rho d l_wet)
     q = (0.25 * segment_length * diameter) * rho * frac
-    vn *= (q * cd_normal * vn_mag)[:, None]
+    if float_cd_area is not None:  # the floats' own normal drag: C_d A per metre, on the same q
+        vn *= (q * (cd_normal + float_cd_area / diameter) * vn_mag)[:, None]
+    else:
+        vn *= (q * cd_normal * vn_mag)[:, None]
     vt *= (q * np.pi * cd_tangential * np.abs(vt_mag))[:, None]
     half = vn + vt
-    fb = (gravity * np.pi * diameter**2 / 4.0 * segment_length) * rho * frac
+    if area is None:
+        fb = (gravity * np.pi * diameter**2 / 4.0 * segment_length) * rho * frac
+    else:
+        fb = (gravity * area * segment_length) * rho * frac
     f = np.empty_like(x)
     f[:-1] = half
     f[-1] = 0.0
@@ -109,10 +120,12 @@ def bending_forces(x: np.ndarray, EI: float, segment_length: float) -> np.ndarra
     over a length l.
     """
     f = np.zeros_like(x)
-    if EI <= 0.0 or len(x) < 3:
+    if np.all(np.asarray(EI) <= 0.0) or len(x) < 3:
         return f
     _, length, t = element_geometry(x)
     k = EI / segment_length
+    if np.ndim(k):  # one per joint (a line make-up): as a column
+        k = np.asarray(k)[:, None]
     a, b = t[:-1], t[1:]
     la, lb = length[:-1, None], length[1:, None]
     cos = np.einsum("ij,ij->i", a, b)[:, None]

@@ -115,8 +115,16 @@ class BoundTether:
         self._eq_snapshot = None  # Simulation's copy of eq_active at the last force computation
         self._mu = s.mu
         self._ca_A = s.ca_normal * s.area
+        self.makeup = mk = tm.makeup
+        if mk is not None:  # a line make-up: per-element properties and point loads, no payout
+            self.drum_rest = float(mk.element_length[0])
+            self._mu = mk.element_mass_per_length  # kg/m, per element (floats in)
+            self._ca_A = mk.element_ca_normal * np.pi * mk.element_diameter**2 / 4 + mk.element_float_added_volume
+            self._EA = np.where(np.isfinite(mk.element_EA), mk.element_EA, np.inf)
         # pushes and overshoots below this (N) switch elements without redoing the step
-        self._f_min = max(SLACK_FORCE * abs(s.wet_weight_per_length(float(water.rho([0.0])[0]))) * self.l0, 1e-6)
+        w0 = s.wet_weight_per_length(float(water.rho([0.0])[0])) if mk is None else \
+            float(np.mean(np.abs(mk.element_wet_weight(float(water.rho([0.0])[0]), water.gravity))))
+        self._f_min = max(SLACK_FORCE * abs(w0) * self.l0, 1e-6)
         self._seabed = self._find_seabed(model, tm)
         self._relayout()
 
@@ -139,13 +147,15 @@ class BoundTether:
     def fairlead_share(self) -> float:
         """Length (m) of the drum element whose mass and loads the fairlead node carries:
         FAIRLEAD_SHARE l0, or half the drum element if it is shorter than twice that."""
-        if self.drum_eq is None:
-            return 0.5 * self.drum_rest  # a free start end: an ordinary element
+        if self.drum_eq is None or self.makeup is not None:
+            return 0.5 * self.drum_rest  # a free start end or a make-up: an ordinary element
         return min(FAIRLEAD_SHARE * self.l0, 0.5 * self.drum_rest)
 
     @property
     def rest_lengths(self) -> np.ndarray:
         """Unstretched length of every element (m), shape (n,); 0 for elements on the drum."""
+        if self.makeup is not None:
+            return np.array(self.makeup.element_length, dtype=float)
         r = np.zeros(self.n)
         r[self.first] = self.drum_rest
         r[self.first + 1:] = self.l0
@@ -163,6 +173,8 @@ class BoundTether:
         z = x[:, 2]
         zc = np.minimum(0.5 * (z[1:] + z[:-1]), 0.0)
         self._added_per_m = self._ca_A * np.asarray(self.water.rho(zc), float)  # kg/m, per element
+        if self.makeup is not None:  # the point loads' added mass, at the start's depths
+            self._node_added = self.makeup.node_added_volume * np.asarray(self.water.rho(np.minimum(z, 0.0)), float)
         self._update()
         # elements about as long as their rest length or longer start taut, clearly slack ones
         # slack (an element started taut that pushes is switched off at the first step)
@@ -186,13 +198,20 @@ class BoundTether:
         c = self.fairlead_share
         left = np.where(idx == k + 1, 1.0 - c / max(rest[k], 1e-300), 0.5)
         right = np.where(idx == k, c / max(rest[k], 1e-300), 0.5)
-        mass = self._mu * (left * r_left + right * r_right)
         added = left * a_left * r_left + right * a_right * r_right
-        i_ref = self._i_ref = (self._mu + np.median(ap)) * l0  # an interior node's inertia
         parked = idx < k
         end = (idx == k) | (idx == n)  # at a support: armature up to an interior node's inertia
-        mass = np.where(parked, self._mu * l0, mass)
-        arm = np.where(parked, i_ref - self._mu * l0, added)
+        if self.makeup is None:
+            mass = self._mu * (left * r_left + right * r_right)
+            i_ref = self._i_ref = (self._mu + np.median(ap)) * l0  # an interior node's inertia
+            mass = np.where(parked, self._mu * l0, mass)
+            arm = np.where(parked, i_ref - self._mu * l0, added)
+        else:  # per-element mass per length, and the point loads' masses and added masses
+            mu = self._mu
+            mass = left * np.r_[0.0, mu] * r_left + right * np.r_[mu, 0.0] * r_right + self.makeup.node_mass
+            added = added + self._node_added
+            i_ref = self._i_ref = float(np.median(mass + added))
+            arm = added
         arm = np.where(end & ~parked, np.maximum(i_ref - mass, added), arm)
         arm = np.maximum(arm, 1e-9 * i_ref)
         m.body_mass[self._bids] = mass
@@ -201,8 +220,8 @@ class BoundTether:
         # elements: inverse mass along the element, solver parameters, rest lengths
         js = np.arange(n)
         inv = 1.0 / self._inertia[:-1] + 1.0 / self._inertia[1:]
-        p = axial_params(self.spec.EA, np.where(js >= k, rest, l0), inv, m.opt.timestep,
-                         self.spec.axial_damping_ratio)
+        p = axial_params(self.spec.EA if self.makeup is None else self._EA, np.where(js >= k, rest, l0), inv,
+                         m.opt.timestep, self.spec.axial_damping_ratio)
         m.tendon_invweight0[self._ten] = inv
         m.eq_solref[self._eqs] = p.solref
         m.eq_solimp[self._eqs] = p.solimp
@@ -335,6 +354,11 @@ class BoundTether:
         L = float(length)
         if not (np.isfinite(L) and L >= 0):
             raise ValueError(f"length must be a finite number >= 0 m, got {length!r}")
+        if self.makeup is not None:
+            if abs(L - self.makeup.length) > 1e-9 * self.makeup.length:
+                raise ValueError(f"length: a line make-up's length is fixed at {self.makeup.length:g} m "
+                                 "(payout of a make-up is not supported yet)")
+            return
         n, l0 = self.n, self.l0
         k = self.first
         s = L - (n - k - 1) * l0
@@ -395,6 +419,10 @@ class BoundTether:
         normal = R.reshape(3, 3)[:, 2].copy()
         point = model.geom_pos[g].copy()
         rho = float(self.water.rho([point[2]])[0])
+        if self.makeup is not None:  # each node's wet weight: half its elements' and its point load's
+            ww = self.makeup.element_wet_weight(rho, self.water.gravity) * self.makeup.element_length
+            self._node_wet = (np.r_[0.0, ww] * 0.5 + np.r_[ww, 0.0] * 0.5 + self.makeup.node_wet_weight(
+                rho, self.water.gravity)) * normal[2]
         w = self.spec.wet_weight_per_length(rho, self.water.gravity) * normal[2]
         self._stick = slice(tm.userdata_adr, tm.userdata_adr + 3 * (self.n + 1))
         self.data.userdata[self._stick] = np.nan
@@ -413,12 +441,16 @@ class BoundTether:
         stick points are first placed so that the springs pull with it (up to mu N)."""
         point, normal, w = self._seabed
         k, m = self.first, self.model
-        if w <= 0.0:  # a buoyant cable does not press on the seabed
+        if self.makeup is not None:  # (a buoyant node does not press on the seabed)
+            normal_force = np.maximum(self._node_wet, 0.0)
+        elif w <= 0.0:  # a buoyant cable does not press on the seabed
             return np.zeros_like(x), np.full_like(x, np.nan)
-        half = 0.5 * self.rest_lengths[k:]
-        share = np.zeros(len(half) + 1)  # each node's half of its elements
-        share[:-1] += half
-        share[1:] += half
+        else:
+            half = 0.5 * self.rest_lengths[k:]
+            share = np.zeros(len(half) + 1)  # each node's half of its elements
+            share[:-1] += half
+            share[1:] += half
+            normal_force = w * share
         dofs = self._dof0 + 3 * np.arange(k, self.n + 1)
         mass = m.body_mass[self._bids[k:]] + m.dof_armature[dofs]
         stiffness = STICK_STIFFNESS * mass / m.opt.timestep ** 2
@@ -427,7 +459,7 @@ class BoundTether:
             foot = x - ((x - point) @ normal)[:, None] * normal
             stick = foot + preload / stiffness[:, None]
         return seabed_friction(x, v, stick, point=point, normal=normal, radius=self.spec.diameter / 2,
-                               normal_force=w * share, mu=self.tm.seabed_friction, stiffness=stiffness,
+                               normal_force=normal_force, mu=self.tm.seabed_friction, stiffness=stiffness,
                                damping=damping)
 
     def loads(self, data: mujoco.MjData) -> np.ndarray:
@@ -450,6 +482,9 @@ class BoundTether:
             e = x[1] - x[0]
             v = v.copy()
             v[0] += self.payout_rate / max(math.sqrt(e @ e), 1e-9) * e
+        mk = self.makeup
+        if mk is not None:
+            return self._makeup_hydro(x, v)
         f = tether_loads(x, v, segment_length=self._deployed_rest, diameter=s.diameter,
                          cd_normal=s.cd_normal, cd_tangential=s.cd_tangential,
                          rho_fn=self.water.rho, current_fn=self.water.velocity,
@@ -457,6 +492,31 @@ class BoundTether:
                          first_share=self.fairlead_share / max(self.drum_rest, 1e-300))
         if s.EI > 0:
             f += bending_forces(x, s.EI, self.l0)
+        return f
+
+    def _makeup_hydro(self, x: np.ndarray, v: np.ndarray) -> np.ndarray:
+        """``_hydro`` of a line make-up: each element with its own diameter, coefficients and
+        floats; each point load's buoyancy (under water) and drag 1/2 rho CdA |u - v| (u - v) at
+        its node (its weight is in the node's mass); bending with each joint's mean EI."""
+        mk = self.makeup
+        float_cda = mk.element_float_cd_area
+        f = tether_loads(x, v, segment_length=self._deployed_rest, diameter=mk.element_diameter,
+                         cd_normal=mk.element_cd_normal, cd_tangential=mk.element_cd_tangential,
+                         rho_fn=self.water.rho, current_fn=self.water.velocity, gravity=self.water.gravity,
+                         area=mk.element_area, float_cd_area=float_cda if np.any(float_cda > 0) else None)
+        if mk.has_point_loads:
+            z = np.minimum(x[:, 2], 0.0)
+            wet = x[:, 2] <= 0.0
+            rho = np.asarray(self.water.rho(z), float)
+            f[:, 2] += rho * mk.node_volume * self.water.gravity * wet
+            cda = mk.node_cd_area
+            if np.any(cda > 0):
+                u = self.water.velocity(z) - v
+                f += (0.5 * rho * cda * wet * np.sqrt(np.einsum("ij,ij->i", u, u)))[:, None] * u
+        EI = mk.element_EI
+        if np.any(EI > 0):
+            rest = self._deployed_rest
+            f += bending_forces(x, 0.5 * (EI[1:] + EI[:-1]), 0.5 * (rest[1:] + rest[:-1]))
         return f
 
     def preload_friction(self, data: mujoco.MjData, tension) -> None:
@@ -530,6 +590,8 @@ class BoundTether:
     @property
     def deployed_length(self) -> float:
         """Unstretched deployed length (m)."""
+        if self.makeup is not None:
+            return float(self.makeup.length)
         return self.drum_rest + (self.n - self.first - 1) * self.l0
 
     def nodes(self, data: mujoco.MjData) -> np.ndarray:
