@@ -8,7 +8,6 @@ mu times its submerged weight (plus its tangential drag). MoorPy's laid line wit
 
 import math
 
-import mujoco
 import numpy as np
 import pytest
 from conftest import new_spec
