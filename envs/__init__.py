@@ -7,17 +7,20 @@ Importing this package registers:
 * ``mjtether/TetheredWalker-v0`` (``TetheredWalkerEnv``): command the walker's gait and the
   winch to reach a goal on the seabed.
 
+Hand-written controllers to compare against (``baselines``): ``FollowPayout`` (Khan et al.
+2023, Eq. 30), ``SlantRangePayout``, ``SlackPI`` (tuned; the strongest) and ``SteerToGoal``.
+
 >>> import gymnasium as gym, mjtether.envs  # noqa: F401
 >>> env = gym.make("mjtether/TetherWinch-v0")
 """
 
 from gymnasium.envs.registration import register, registry
 
-from .baselines import FollowPayout, SlantRangePayout, SteerToGoal
+from .baselines import FollowPayout, SlackPI, SlantRangePayout, SteerToGoal
 from .tether_winch import TetherWinchEnv
 from .tethered_walker import TetheredWalkerEnv
 
-__all__ = ["TetherWinchEnv", "TetheredWalkerEnv", "FollowPayout", "SlantRangePayout", "SteerToGoal"]
+__all__ = ["TetherWinchEnv", "TetheredWalkerEnv", "FollowPayout", "SlantRangePayout", "SlackPI", "SteerToGoal"]
 
 for _id, _entry, _steps in (("mjtether/TetherWinch-v0", "mjtether.envs.tether_winch:TetherWinchEnv", 600),
                             ("mjtether/TetheredWalker-v0", "mjtether.envs.tethered_walker:TetheredWalkerEnv", 900)):

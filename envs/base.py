@@ -1,14 +1,19 @@
 """What the two environments share: a scenario built afresh each episode (randomised current,
 route or goal), the walker on the seabed at the end of a tether from a ship holding station at
-the origin, stepping with ``frame_skip``, tether readouts, and ``render_mode="rgb_array"``
-through ``mjtether.render``.
+the origin, stepping with ``frame_skip``, tether readouts, rendering (``render_mode="rgb_array"``
+through ``mjtether.render``, ``"human"`` through MuJoCo's passive viewer; ``camera_name`` /
+``camera_id`` as in Gymnasium's MuJoCo environments) and pickling.
 
 Frames: world, z up, surface z = 0, the ship's fairlead at the origin. Units SI.
 """
 
 from __future__ import annotations
 
+import functools
 import math
+import os
+import sys
+import time
 from dataclasses import dataclass, fields
 
 import gymnasium as gym
@@ -16,6 +21,7 @@ import mujoco
 import numpy as np
 
 from mjtether.config import ConfigError, Section, param
+from mjtether.render import CAMERAS, Marker, RenderUnavailable, model_camera_id, tension_colours
 from mjtether.runner import RunFailed, ScenarioRun
 from mjtether.scenario import load_scenario
 from mjtether.units import KNOT
@@ -24,6 +30,67 @@ CURRENT_DEPTHS = (0.05, 0.25, 0.75)
 """Depths, as fractions of the water depth, at which the current is observed."""
 
 DEFAULT_CAMERA_CONFIG = {"camera": "track"}
+CAMERA_CONFIG_KEYS = ("camera", "tension_scale")
+NO_DISPLAY = "render_mode='human' needs a display; use render_mode='rgb_array'"
+
+
+@functools.cache
+def model_cameras() -> tuple[str, ...]:
+    """The cameras of the environments' MuJoCo model, in id order (the walker's, prefixed
+    ``walker/``: its model is the only part of the scene that has cameras)."""
+    from mjtether.walker import walker_spec
+
+    return tuple(f"walker/{c.name}" for c in walker_spec().cameras)
+
+
+def has_display() -> bool:
+    """Whether a window can be opened: DISPLAY or WAYLAND_DISPLAY set (macOS and Windows: always)."""
+    return sys.platform in ("darwin", "win32") or bool(os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY"))
+
+
+def check_camera_config(config: dict | None) -> dict:
+    """``default_camera_config`` with its defaults, or a ValueError naming the bad entry."""
+    config = {} if config is None else config
+    if not isinstance(config, dict):
+        raise ValueError(f"default_camera_config must be a dict, got {config!r}")
+    unknown = sorted(set(config) - set(CAMERA_CONFIG_KEYS))
+    if unknown:
+        raise ValueError(f"default_camera_config: unknown key {unknown[0]!r}; allowed: {', '.join(CAMERA_CONFIG_KEYS)}")
+    out = dict(DEFAULT_CAMERA_CONFIG, **config)
+    if out["camera"] not in CAMERAS:
+        raise ValueError(f"default_camera_config['camera'] must be one of {', '.join(CAMERAS)}; got {out['camera']!r}")
+    scale = out.get("tension_scale")
+    if scale is not None and not (isinstance(scale, (int, float)) and not isinstance(scale, bool) and scale > 0):
+        raise ValueError(f"default_camera_config['tension_scale'] must be a number > 0 (N), got {scale!r}")
+    return out
+
+
+def select_camera(camera_name, camera_id, default_view: str) -> tuple[str, str | None]:
+    """(renderer view, model camera or None) for Gymnasium's ``camera_name`` / ``camera_id``.
+
+    ``camera_name``: a view of ``mjtether.render`` ("track", "side", "top", "walker") or a
+    camera of the model ("walker/track", "walker/front"). ``camera_id``: a camera of the model
+    by id, or -1 for the default view (``default_camera_config["camera"]``). At most one."""
+    views, cams = ", ".join(map(repr, CAMERAS)), ", ".join(map(repr, model_cameras()))
+    if camera_name is not None and camera_id is not None:
+        raise ValueError("camera_name and camera_id cannot both be given (as in Gymnasium's MuJoCo environments)")
+    if camera_name is not None:
+        if camera_name in CAMERAS:
+            return camera_name, None
+        if camera_name in model_cameras():
+            return default_view, camera_name
+        raise ValueError(f"camera_name must be one of the renderer's views ({views}) or a camera of the model "
+                         f"({cams}); got {camera_name!r}")
+    if camera_id is not None:
+        ok = isinstance(camera_id, (int, np.integer)) and not isinstance(camera_id, bool)
+        if ok and camera_id == -1:
+            return default_view, None
+        if ok and 0 <= camera_id < len(model_cameras()):
+            return default_view, model_cameras()[camera_id]
+        ids = ", ".join(f"{i} ({n!r})" for i, n in enumerate(model_cameras()))
+        raise ValueError(f"camera_id must be -1 (the default view, default_camera_config['camera'] = "
+                         f"{default_view!r}) or the id of a camera of the model: {ids}; got {camera_id!r}")
+    return default_view, None
 
 
 @dataclass(frozen=True)
@@ -72,7 +139,10 @@ def kwargs_table(cls) -> str:
     line = "  ".join("=" * n for n in w)
     head = "  ".join(h.ljust(n) for h, n in zip(("keyword", "default", "allowed", "meaning"), w))
     body = ["  ".join(c.ljust(n) for c, n in zip(r, w)).rstrip() for r in rows]
-    return "\n".join(["", "Keyword arguments (checked in the constructor):", "", line, head, line, *body, line, ""])
+    extra = ("Also ``render_mode`` (None, \"rgb_array\" or \"human\"), ``camera_name``, ``camera_id`` and "
+             "``default_camera_config``: see ``TetherEnv``.")
+    return "\n".join(["", "Keyword arguments (checked in the constructor):", "", line, head, line, *body, line, "",
+                      extra, ""])
 
 
 def _finite_action(action, n: int) -> np.ndarray:
@@ -92,19 +162,48 @@ class TetherEnv(gym.Env):
 
     Keyword arguments: those of ``Config`` (see its table in the subclass docstring, checked in
     the constructor: a bad one raises ``mjtether.config.ConfigError``, a ValueError, naming it),
-    plus ``render_mode`` (None or "rgb_array") and ``default_camera_config`` ({"camera":
-    "track" | "side" | "top" | "walker", "tension_scale": N}, see ``mjtether.render``).
+    plus, as in Gymnasium's MuJoCo environments (all checked in the constructor, a ValueError
+    listing what is allowed):
+
+    * ``render_mode``: None, ``"rgb_array"`` (``render()`` returns a frame (height, width, 3)
+      uint8, drawn offscreen by ``mjtether.render``: no display needed) or ``"human"`` (a window,
+      MuJoCo's passive viewer, updated on every ``reset`` and ``step`` and paced to real time;
+      without a display, DISPLAY or WAYLAND_DISPLAY, the constructor raises
+      ``mjtether.render.RenderUnavailable``, a RuntimeError). No ``"depth_array"``.
+    * ``default_camera_config``: {"camera": "track" | "side" | "top" | "walker", "tension_scale":
+      N}: the renderer's view (see ``mjtether.render``) and the top of the tether's tension
+      colour scale (default: the rated load). Other keys are refused (Gymnasium's free-camera
+      keys, such as ``distance``, do not apply: the views place the camera themselves).
+    * ``camera_name``: one of the renderer's views above, or a camera of the MuJoCo model
+      (``model_cameras()``: "walker/track", "walker/front"); it overrides
+      ``default_camera_config["camera"]``.
+    * ``camera_id``: the id of a camera of the model (0: "walker/track", 1: "walker/front"), or
+      -1 for the default view. At most one of ``camera_name`` and ``camera_id``.
+
+    A ``TetheredWalker-v0`` frame shows the goal as a translucent green column (``goal_marker``),
+    drawn into the scene only: the physics is the same with and without rendering.
+
+    Pickling (``pickle``, ``copy.deepcopy``, a vector environment's ``spawn`` context) keeps the
+    constructor's keyword arguments, the random generator's state and ``spec``, and drops the
+    simulation, renderer and viewer: an unpickled environment must be ``reset()`` before
+    ``step()`` (an episode in progress is not carried over). Its ``reset()`` without a seed
+    draws the same episode as the original's next ``reset()`` would.
     """
 
-    metadata = {"render_modes": ["rgb_array"], "render_fps": 10}
+    metadata = {"render_modes": ["human", "rgb_array"], "render_fps": 10}
     Config = TetherEnvConfig
 
-    def __init__(self, *, render_mode: str | None = None, default_camera_config: dict | None = None, **kwargs):
+    def __init__(self, *, render_mode: str | None = None, default_camera_config: dict | None = None,
+                 camera_name: str | None = None, camera_id: int | None = None, **kwargs):
         unknown = sorted(set(kwargs) - {f.name for f in fields(self.Config)})
         if unknown:
             raise ConfigError(f"{type(self).__name__}: unknown keyword argument {unknown[0]!r}; allowed: "
-                              f"{', '.join(f.name for f in fields(self.Config))}, render_mode, default_camera_config",
-                              unknown[0])
+                              f"{', '.join(f.name for f in fields(self.Config))}, render_mode, camera_name, "
+                              "camera_id, default_camera_config", unknown[0])
+        # what pickling keeps (see the class docstring)
+        self._init_kwargs = dict(kwargs, render_mode=render_mode, camera_name=camera_name, camera_id=camera_id,
+                                 default_camera_config=None if default_camera_config is None
+                                 else dict(default_camera_config))
         try:
             self.config = cfg = self.Config(**kwargs)
         except ConfigError as exc:
@@ -115,11 +214,29 @@ class TetherEnv(gym.Env):
         self.current_max = KNOT * cfg.current_max_kn
         if render_mode is not None and render_mode not in self.metadata["render_modes"]:
             raise ValueError(f"render_mode must be None or one of {self.metadata['render_modes']}, got {render_mode!r}")
+        if render_mode == "human" and not has_display():
+            raise RenderUnavailable(f"{NO_DISPLAY} (neither DISPLAY nor WAYLAND_DISPLAY is set)")
         self.render_mode = render_mode
-        self.camera_config = dict(DEFAULT_CAMERA_CONFIG, **(default_camera_config or {}))
+        self.camera_config = check_camera_config(default_camera_config)
+        self.camera_name, self.camera_id = camera_name, camera_id
+        self._view, self._model_camera = select_camera(camera_name, camera_id, self.camera_config["camera"])
         self.metadata = dict(self.metadata, render_fps=round(1.0 / self.dt))
         self.runner: ScenarioRun | None = None
         self._renderer = None
+        self._viewer = None  # render_mode "human": MuJoCo's passive viewer of the current runner
+        self._viewer_runner = None
+        self._last_frame = 0.0  # wall-clock time of the last "human" frame
+
+    # ---------------------------------------------------------------- pickling
+
+    def __getstate__(self) -> dict:
+        return {"kwargs": dict(self._init_kwargs), "np_random": self._np_random,
+                "np_random_seed": self._np_random_seed, "spec": self.spec}
+
+    def __setstate__(self, state: dict) -> None:
+        type(self).__init__(self, **state["kwargs"])
+        self._np_random, self._np_random_seed = state["np_random"], state["np_random_seed"]
+        self.spec = state["spec"]
 
     @property
     def dt(self) -> float:
@@ -202,22 +319,92 @@ class TetherEnv(gym.Env):
 
     # ---------------------------------------------------------------- rendering and closing
 
+    def render_markers(self) -> list[Marker]:
+        """Geoms drawn into each frame only (none here; ``TetheredWalker-v0``: the goal)."""
+        return []
+
     def render(self):
         if self.render_mode is None:
             gym.logger.warn("render() called without a render_mode; pass render_mode='rgb_array'")
             return None
         if self.runner is None:
             raise RuntimeError("call reset() before render()")
+        if self.render_mode == "human":
+            return self._render_human()
         if self._renderer is None:
             from mjtether.render import FrameRenderer, VideoSettings
 
             settings = VideoSettings(self.width, self.height, fps=float(self.metadata["render_fps"]),
-                                     camera=self.camera_config.get("camera", "track"),
+                                     camera=self._view,
                                      tension_scale=self.camera_config.get("tension_scale", self.rated_load))
-            self._renderer = FrameRenderer(self.runner, settings)
-        return self._renderer.render()
+            self._renderer = FrameRenderer(self.runner, settings, fixed_camera=self._model_camera)
+        self._renderer.markers = self.render_markers()
+        # (the renderer returns a view of its own buffer, which the next frame overwrites)
+        return self._renderer.render().copy()
+
+    def _human_frame(self) -> None:
+        """``render_mode="human"``: called at the end of ``reset`` and ``step``."""
+        if self.render_mode == "human":
+            self.render()
+
+    def _render_human(self) -> None:
+        """Show the state in MuJoCo's passive viewer (a new window for each episode's model),
+        with the tether coloured by tension and the markers, paced to ``dt`` per frame."""
+        import mujoco.viewer
+
+        r = self.runner
+        if self._viewer is not None and (self._viewer_runner is not r or not self._viewer.is_running()):
+            self._close_viewer()
+        v = self._viewer
+        if v is None:
+            m = r.sim.model
+            self._viewer = v = mujoco.viewer.launch_passive(m, r.sim.data)
+            self._viewer_runner = r
+            if self._model_camera is not None or self._view == "walker":
+                v.cam.type = mujoco.mjtCamera.mjCAMERA_FIXED
+                v.cam.fixedcamid = model_camera_id(m, self._model_camera or "walker/track")
+            else:  # track (side, top: from further away): follow the walker
+                v.cam.type = mujoco.mjtCamera.mjCAMERA_TRACKING
+                v.cam.trackbodyid = r.torso
+                v.cam.distance = {"track": 9.0, "side": 60.0, "top": 60.0}[self._view]
+                v.cam.azimuth, v.cam.elevation = {"track": (135.0, -20.0), "side": (90.0, -5.0),
+                                                  "top": (90.0, -89.9)}[self._view]
+        d = r.sim.data
+        x = r.bt.nodes(d)
+        colours = tension_colours(r.bt.tension(d), self.camera_config.get("tension_scale", self.rated_load))
+        with v.lock():
+            scn = v.user_scn
+            scn.ngeom = 0
+            for i, rgba in enumerate(colours):
+                if scn.ngeom >= scn.maxgeom:
+                    break
+                g = scn.geoms[scn.ngeom]
+                mujoco.mjv_initGeom(g, mujoco.mjtGeom.mjGEOM_CAPSULE, np.zeros(3), np.zeros(3), np.eye(3).ravel(),
+                                    np.asarray(rgba, np.float32))
+                mujoco.mjv_connector(g, mujoco.mjtGeom.mjGEOM_CAPSULE, max(r.tether_spec.diameter, 0.05), x[i],
+                                     x[i + 1])
+                scn.ngeom += 1
+            for mk in self.render_markers():
+                if scn.ngeom >= scn.maxgeom:
+                    break
+                mujoco.mjv_initGeom(scn.geoms[scn.ngeom], mk.gtype, np.asarray(mk.size, float),
+                                    np.asarray(mk.pos, float), np.eye(3).ravel(), np.asarray(mk.rgba, np.float32))
+                scn.ngeom += 1
+        v.sync()
+        wait = self._last_frame + self.dt - time.perf_counter()
+        if wait > 0:
+            time.sleep(wait)
+        self._last_frame = time.perf_counter()
+        return None
+
+    def _close_viewer(self) -> None:
+        if self._viewer is not None:
+            self._viewer.close()
+            self._viewer = None
+            self._viewer_runner = None
 
     def _close_sim(self) -> None:
+        self._close_viewer()  # (it shows this episode's model)
         if self._renderer is not None:
             self._renderer.close()
             self._renderer = None

@@ -95,6 +95,7 @@ class TetherWinchEnv(TetherEnv):
         self._start_episode(seed)
         tow, _, _ = self.robot_kinematics()
         self._prev_distance = float(np.hypot(tow[0], tow[1]))
+        self._human_frame()
         return self._get_obs(), self._info({})
 
     def step(self, action):
@@ -115,6 +116,7 @@ class TetherWinchEnv(TetherEnv):
         terms["reward_failure"] = -self.failure_penalty if terminated else 0.0
         self._prev_tow = tow
         reward = float(sum(terms.values()))
+        self._human_frame()
         return obs, reward, terminated, False, self._info(terms)
 
     # ---------------------------------------------------------------- observation

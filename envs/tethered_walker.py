@@ -34,6 +34,10 @@ Reward per step::
 The episode terminates at the goal, above the rated load, or at a length limit; it is truncated
 by ``max_episode_steps`` (900: 90 s). ``info`` holds the reward terms, the distance to the goal,
 the tensions, the positions and ``is_success``.
+
+Rendered frames (``render_mode="rgb_array"`` or ``"human"``) show the goal as a translucent
+green column ``goal_radius`` wide on the seabed, drawn into the scene only (not a model geom: the
+physics is the same with and without rendering).
 """
 
 from __future__ import annotations
@@ -45,9 +49,15 @@ import numpy as np
 from gymnasium import spaces
 
 from mjtether.config import param
+from mjtether.render import Marker
 from mjtether.runner import RunFailed
 
 from .base import TetherEnv, TetherEnvConfig, _finite_action, kwargs_table
+
+GOAL_RGBA = (0.1, 0.95, 0.2, 0.55)
+"""Colour of the goal marker in rendered frames (translucent green)."""
+GOAL_MARKER_HEIGHT = 2.0
+"""Height (m) of the goal marker, a column standing on the seabed."""
 
 
 @dataclass(frozen=True)
@@ -94,6 +104,7 @@ class TetheredWalkerEnv(TetherEnv):
         self._start_episode(seed)
         self.runner.set_command(0.0, 0.0)
         self._prev_distance = self._goal_distance()
+        self._human_frame()
         return self._get_obs(), self._info({})
 
     def step(self, action):
@@ -124,7 +135,21 @@ class TetheredWalkerEnv(TetherEnv):
             "reward_failure": -self.failure_penalty if failed else 0.0,
         }
         self._prev_distance = dist
+        self._human_frame()
         return self._get_obs(), float(sum(terms.values())), bool(success or failed), False, self._info(terms)
+
+    # ---------------------------------------------------------------- rendering
+
+    def goal_marker(self) -> Marker:
+        """The goal as drawn: a translucent green column, ``goal_radius`` wide and
+        ``GOAL_MARKER_HEIGHT`` m tall, standing on the seabed at the goal (a scene geom only)."""
+        gx, gy = (float(c) for c in self.goal)
+        z = float(self.runner.seabed_z(gx, gy)) if self.runner is not None else -self.depth
+        h = GOAL_MARKER_HEIGHT / 2
+        return Marker(pos=(gx, gy, z + h), size=(self.goal_radius, self.goal_radius, h), rgba=GOAL_RGBA)
+
+    def render_markers(self) -> list[Marker]:
+        return [self.goal_marker()]
 
     # ---------------------------------------------------------------- observation
 

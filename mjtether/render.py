@@ -8,7 +8,8 @@ built (seabed, ship, walker), and, drawn into the scene for the frame only:
   ``tension_scale`` N, blue (slack) to red, the ``turbo`` colour map);
 * the water surface as a translucent plane at z = 0;
 * current arrows at a few depths (length proportional to speed, stated in the overlay);
-* a text overlay (time, tow tension, ship-end tension, deployed length) and a colour bar.
+* a text overlay (time, tow tension, ship-end tension, deployed length) and a colour bar;
+* the caller's ``FrameRenderer.markers`` (``Marker``: e.g. a goal), geoms of the scene only.
 
 The renderer only reads the simulation (``mjv_updateScene`` and the tether's constraint forces),
 so a run gives the same time series with and without video (``tests/test_render.py``).
@@ -159,6 +160,17 @@ class VideoSettings:
             raise ValueError(f"video.current_arrows must be in [0, 20], got {self.current_arrows!r}")
 
 
+def model_camera_id(model: mujoco.MjModel, camera: int | str) -> int:
+    """The id of a camera of ``model`` given by id or name; a ValueError lists the cameras."""
+    names = [model.camera(i).name for i in range(model.ncam)]
+    if isinstance(camera, str) and camera in names:
+        return names.index(camera)
+    if isinstance(camera, (int, np.integer)) and not isinstance(camera, bool) and 0 <= camera < model.ncam:
+        return int(camera)
+    raise ValueError(f"no camera {camera!r} in the model; its cameras are "
+                     f"{', '.join(f'{i}: {n!r}' for i, n in enumerate(names)) or 'none'}")
+
+
 def check_output_path(path, overwrite: bool = True) -> Path:
     """The video file's path, if its suffix is a supported format (.mp4 or .gif), it is not a
     folder, and (unless ``overwrite``) no file is there yet."""
@@ -177,16 +189,35 @@ def check_output_path(path, overwrite: bool = True) -> Path:
     return p
 
 
+@dataclass
+class Marker:
+    """A geom drawn into every frame (added to the scene, not to the model, so the physics does
+    not see it): MuJoCo geom type ``gtype`` at ``pos`` (m, world, axes aligned with the world's),
+    ``size`` as a scene geom (``mjvGeom``) takes it, three values (a cylinder: radius, radius,
+    half-height; a sphere: the radius three times), colour ``rgba`` (alpha < 1: translucent)."""
+
+    pos: tuple
+    size: tuple
+    rgba: tuple = (0.1, 0.9, 0.2, 0.5)
+    gtype: int = mujoco.mjtGeom.mjGEOM_CYLINDER
+
+
 class FrameRenderer:
     """Draws the current state of a ``runner.ScenarioRun`` offscreen (see the module docstring);
-    ``render()`` returns an RGB array. ``close()`` frees the OpenGL context."""
+    ``render()`` returns an RGB array. ``close()`` frees the OpenGL context.
 
-    def __init__(self, runner, settings: VideoSettings | None = None):
+    ``fixed_camera``: a camera of the model (its id, or its name such as ``"walker/front"``) to
+    view from instead of ``settings.camera``. ``markers``: a list of ``Marker`` drawn into each
+    frame; the caller may replace it between frames."""
+
+    def __init__(self, runner, settings: VideoSettings | None = None, fixed_camera: int | str | None = None):
         self.s = s = settings or VideoSettings()
         self.runner = runner
         m = runner.sim.model
-        if s.camera == "walker" and not runner.walker:
+        if s.camera == "walker" and not runner.walker and fixed_camera is None:
             raise ValueError("video.camera 'walker' needs a walker scenario (robot.type = 'walker')")
+        self.fixed_camera = None if fixed_camera is None else model_camera_id(m, fixed_camera)
+        self.markers: list[Marker] = []
         # visual settings (model.vis is not used by the physics)
         m.vis.global_.offwidth = max(m.vis.global_.offwidth, s.width)
         m.vis.global_.offheight = max(m.vis.global_.offheight, s.height)
@@ -199,7 +230,9 @@ class FrameRenderer:
         self._gl = _gl_context(s.width, s.height)
         self.ctx = mujoco.MjrContext(m, mujoco.mjtFontScale.mjFONTSCALE_100)
         mujoco.mjr_setBuffer(mujoco.mjtFramebuffer.mjFB_OFFSCREEN, self.ctx)
-        self.scene = mujoco.MjvScene(m, maxgeom=m.ngeom + runner.bt.n + s.current_arrows + 100)
+        # room for what mjv_updateScene draws (geoms, sites, tendons) and what is added here:
+        # a scene that is full drops the rest of the tether, the arrows and the markers
+        self.scene = mujoco.MjvScene(m, maxgeom=m.ngeom + m.nsite + m.ntendon + runner.bt.n + s.current_arrows + 100)
         if s.tuned:
             for f in (mujoco.mjtRndFlag.mjRND_SHADOW, mujoco.mjtRndFlag.mjRND_REFLECTION,
                       mujoco.mjtRndFlag.mjRND_SKYBOX):
@@ -236,9 +269,9 @@ class FrameRenderer:
         """Set the camera; returns the typical viewing distance (m) for line widths."""
         c, m, r = self.cam, self.runner.sim.model, self.runner
         fov = math.radians(m.vis.global_.fovy)
-        if self.s.camera == "walker":
+        if self.fixed_camera is not None or self.s.camera == "walker":
             c.type = mujoco.mjtCamera.mjCAMERA_FIXED
-            c.fixedcamid = m.camera("walker/track").id
+            c.fixedcamid = m.camera("walker/track").id if self.fixed_camera is None else self.fixed_camera
             return 8.0
         c.type = mujoco.mjtCamera.mjCAMERA_FREE
         if self.s.camera == "track":
@@ -299,6 +332,13 @@ class FrameRenderer:
                 p0 = base + [0.0, 0.0, zi]
                 mujoco.mjv_connector(g, mujoco.mjtGeom.mjGEOM_ARROW, 0.004 * view, p0, p0 + self.arrow_scale * ui)
 
+    def _add_markers(self) -> None:
+        for mk in self.markers:
+            g = self._add_geom(mk.gtype, mk.rgba)
+            if g is not None:
+                g.pos[:] = mk.pos
+                g.size[:] = mk.size
+
     def _overlay(self) -> None:
         r, d = self.runner, self.runner.sim.data
         tow = r.bt.end_tension(d, "end")
@@ -326,6 +366,7 @@ class FrameRenderer:
         width = max(r.tether_spec.diameter / 2, 0.0025 * view)
         self._add_tether(x, r.bt.tension(d), width)
         self._add_water_and_current(x, view)
+        self._add_markers()
         # underwater haze: fog in the water's colour from about the viewing distance on
         m.vis.map.fogstart = 1.0 * view / m.stat.extent
         m.vis.map.fogend = 4.0 * view / m.stat.extent

@@ -1,14 +1,18 @@
-"""Train PPO (Stable-Baselines3) on ``mjtether/TetherWinch-v0`` and compare it with the paper's
-payout rule (``FollowPayout``: pay out at the walker's speed) on the same evaluation seeds.
+"""Train PPO (Stable-Baselines3) on ``mjtether/TetherWinch-v0`` and compare it with the
+hand-written controllers on the same evaluation seeds: the paper's payout rule (``FollowPayout``:
+pay out at the walker's speed, the baseline), the slant-range rate (``SlantRangePayout``), the
+tuned PI loop on the laid slack (``SlackPI``) and a stopped winch.
 
     python -m pip install -e ".[learning]"
     python scripts/train_ppo.py --timesteps 400000 --out results/ppo      # about 40 min on 2 cores
+    python scripts/train_ppo.py --baselines-only --eval-seeds 10         # the controllers alone, no PPO
 
 Writes to ``--out``: ``policy.zip`` and ``vecnormalize.pkl`` (the policy and its observation
 normalisation), ``learning_curve.png`` (episode return against environment steps),
-``evaluation.json`` (per-seed returns of both controllers, means and standard deviations) and
-prints the table that ``docs/learning.md`` shows. ``--timesteps 256 --eval-seeds 1`` is the
-smoke test CI runs.
+``evaluation.json`` (per-seed returns and early terminations of every controller, means and
+standard deviations) and prints the table that ``docs/learning.md`` shows (``--baselines-only``:
+``baselines.json`` and the table without the policy; Stable-Baselines3 is not needed).
+``--timesteps 256 --eval-seeds 1`` is the smoke test CI runs.
 """
 
 from __future__ import annotations
@@ -22,40 +26,55 @@ import gymnasium as gym
 import numpy as np
 
 import mjtether.envs  # noqa: F401 - registers the environments
-from mjtether.envs import FollowPayout, SlantRangePayout
+from mjtether.envs import FollowPayout, SlackPI, SlantRangePayout
 
 ENV_ID = "mjtether/TetherWinch-v0"
 EVAL_SEED0 = 10_000  # evaluation seeds: EVAL_SEED0 .. EVAL_SEED0 + n - 1, never used in training
 
 
-def episode_return(env, act, seed: int) -> float:
-    """Return of one episode of ``act(obs, env) -> action`` from ``env.reset(seed=seed)``."""
+def episode(env, act, seed: int) -> tuple[float, bool]:
+    """(return, terminated early) of one episode of ``act(obs, env) -> action`` from
+    ``env.reset(seed=seed)``."""
     obs, _ = env.reset(seed=seed)
-    total, done = 0.0, False
+    total, done, term = 0.0, False, False
     while not done:
         obs, r, term, trunc, _ = env.step(act(obs, env))
         total += r
         done = term or trunc
-    return total
+    return total, bool(term)
 
 
-REFERENCES = {"baseline": FollowPayout(), "slant_range": SlantRangePayout(),
+def episode_return(env, act, seed: int) -> float:
+    """Return of one episode of ``act(obs, env) -> action`` from ``env.reset(seed=seed)``."""
+    return episode(env, act, seed)[0]
+
+
+REFERENCES = {"baseline": FollowPayout(), "slant_range": SlantRangePayout(), "slack_pi": SlackPI(),
               "fixed": lambda e: np.zeros(1, dtype=np.float32)}
 """Hand-written controllers evaluated beside the policy: the required baseline (the paper's
-Eq. 30), a geometric payout rule, and a winch that never moves."""
+Eq. 30), a geometric payout rule, the tuned PI loop on the laid slack, and a winch that never
+moves."""
+
+LABELS = {"policy": "PPO policy (deterministic)", "baseline": "payout = walker speed (Khan Eq. 30), the baseline",
+          "slant_range": "payout = slant-range rate", "slack_pi": "PI on the laid slack + slant-range feed-forward "
+          "(`SlackPI`, tuned)", "fixed": "winch stopped"}
 
 
 def evaluate(model, vecnorm, seeds) -> dict:
+    """Every controller (the policy too, unless ``model`` is None) on ``seeds``."""
     env = gym.make(ENV_ID)
     out = {"seeds": list(seeds)}
+    controllers = {} if model is None else {
+        "policy": lambda o, e: model.predict(vecnorm.normalize_obs(o), deterministic=True)[0]}
+    controllers.update({name: (lambda o, e, c=ctrl: c(e)) for name, ctrl in REFERENCES.items()})
     try:
-        out["policy"] = [episode_return(
-            env, lambda o, e: model.predict(vecnorm.normalize_obs(o), deterministic=True)[0], s) for s in seeds]
-        for name, ctrl in REFERENCES.items():
-            out[name] = [episode_return(env, lambda o, e: ctrl(e), s) for s in seeds]
+        for name, act in controllers.items():
+            runs = [episode(env, act, s) for s in seeds]
+            out[name] = [r for r, _ in runs]
+            out[f"{name}_terminated"] = int(sum(t for _, t in runs))
     finally:
         env.close()
-    for name in ["policy", *REFERENCES]:
+    for name in controllers:
         out[f"{name}_mean"] = float(np.mean(out[name]))
         out[f"{name}_std"] = float(np.std(out[name]))
     return out
@@ -63,11 +82,10 @@ def evaluate(model, vecnorm, seeds) -> dict:
 
 def table(ev: dict) -> str:
     n = len(ev["seeds"])
-    rows = [("PPO policy (deterministic)", "policy"), ("payout = walker speed (Khan Eq. 30), the baseline", "baseline"),
-            ("payout = slant-range rate", "slant_range"), ("winch stopped", "fixed")]
-    lines = [f"| controller | mean return | std | (over {n} seeds, {ev['seeds'][0]}..{ev['seeds'][-1]}) |",
-             "|---|---:|---:|---|"]
-    lines += [f"| {label} | {ev[key + '_mean']:.1f} | {ev[key + '_std']:.1f} | |" for label, key in rows]
+    lines = [f"| controller (over {n} seeds, {ev['seeds'][0]}..{ev['seeds'][-1]}) | mean return | std | "
+             "episodes ended early |", "|---|---:|---:|---:|"]
+    lines += [f"| {label} | {ev[key + '_mean']:.1f} | {ev[key + '_std']:.1f} | {ev.get(key + '_terminated', '')} |"
+              for key, label in LABELS.items() if key + "_mean" in ev]
     return "\n".join(lines)
 
 
@@ -79,7 +97,16 @@ def main(argv=None):
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--out", default="results/ppo")
     ap.add_argument("--evaluate-only", action="store_true", help="load --out's policy and evaluate it again")
+    ap.add_argument("--baselines-only", action="store_true",
+                    help="evaluate the hand-written controllers alone (no training, no Stable-Baselines3)")
     args = ap.parse_args(argv)
+    if args.baselines_only:
+        out = Path(args.out)
+        out.mkdir(parents=True, exist_ok=True)
+        ev = evaluate(None, None, range(EVAL_SEED0, EVAL_SEED0 + args.eval_seeds))
+        (out / "baselines.json").write_text(json.dumps(ev, indent=1))
+        print(table(ev))
+        return
     try:
         from stable_baselines3 import PPO
         from stable_baselines3.common.env_util import make_vec_env
@@ -161,6 +188,8 @@ def _plot_curve(curve, ev, path: Path) -> None:
     ax.axhline(ev["baseline_mean"], color="C3", ls="--", label="payout = walker speed (evaluation mean)")
     if "slant_range_mean" in ev:
         ax.axhline(ev["slant_range_mean"], color="C1", ls=":", label="payout = slant-range rate (evaluation mean)")
+    if "slack_pi_mean" in ev:
+        ax.axhline(ev["slack_pi_mean"], color="C4", ls="-.", label="SlackPI, tuned (evaluation mean)")
     ax.axhline(ev["policy_mean"], color="C2", ls="-", label="PPO policy (evaluation mean)")
     ax.set_xlabel("environment steps")
     ax.set_ylabel("episode return")
