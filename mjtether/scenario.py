@@ -14,6 +14,7 @@ Frames: world, z up, water surface at z = 0, seabed at z = -depth; headings from
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import tomllib
 from dataclasses import dataclass
@@ -21,11 +22,19 @@ from pathlib import Path
 
 from .config import INF, RENAMED, ConfigError, Section, build, param, section, subsections, unknown_key_message
 from .tether import MAX_LENGTH, MAX_SEGMENTS, TetherSpec
+from .makeup import load_line_types
 from .walker import Tripod
 from .winch import MODES as WINCH_MODES
 from .winch import Winch as _Winch
 
 ScenarioError = ConfigError
+
+LINE_TYPES = load_line_types()
+"""The line-type library (``mjtether/linetypes.toml``), by name."""
+
+
+def _default(cls, name: str):
+    return next(f.default for f in dataclasses.fields(cls) if f.name == name)
 
 MAX_TURN_DEG_S = math.degrees(0.5)
 """The walker's fastest commanded turn (deg/s): its gait's limit, 0.5 rad/s."""
@@ -147,7 +156,26 @@ class Tether(Section):
     EA: float = param(0.0, 0.0, 1e12, "N", "axial stiffness; 0: inextensible")
     EI: float = param(TetherSpec.EI, 0.0, 1e9, "N m^2", "bending stiffness")
     seabed_friction: float = param(0.5, 0.0, 5.0, "", "Coulomb friction of the tether on the seabed")
-    rated_load: float = param(INF, 0.0, INF, "N", "breaking/rated load; a run stops above it")
+    rated_load: float = param(INF, 0.0, INF, "N", "breaking/rated load; a run stops above it (a line_type's MBL "
+                              "when not given)")
+    line_type: str = param("", doc="a line type of the library (mjtether/linetypes.toml: "
+                           + ", ".join(LINE_TYPES) + "): sets diameter, mass_per_length, EA, EI and the "
+                           "coefficients, which are then not given here", choices=("",) + tuple(LINE_TYPES))
+
+    _FROM_TYPE = ("diameter", "mass_per_length", "EA", "EI", "cd_normal", "cd_tangential", "ca_normal")
+
+    def _check(self):
+        if not self.line_type:
+            return
+        lt = LINE_TYPES[self.line_type]
+        for name in self._FROM_TYPE:
+            have, default = getattr(self, name), _default(type(self), name)
+            want = 0.0 if name == "EA" and lt.EA is None else getattr(lt, name)
+            if have not in (default, want):
+                self._bad(name, f"tether.line_type = {self.line_type!r} sets it ({want:g}); give one or the other")
+            object.__setattr__(self, name, float(want))
+        if self.rated_load == INF:
+            object.__setattr__(self, "rated_load", float(lt.mbl))
 
 
 @dataclass(frozen=True)

@@ -257,3 +257,18 @@ def test_tension_band_mode_holds_the_band_behind_the_walker():
     assert t.min() >= 0.98 * lo and t.max() <= 1.02 * hi
     # it holds the band by paying out behind the walker (10 m in 40 s seen)
     assert rows[-1, 15] > rows[0, 15] + 5.0 and rows[-1, 16] > 0.2
+
+
+def test_a_line_type_of_the_library_sets_the_tether():
+    """`tether.line_type` fills the cable's properties from mjtether/linetypes.toml (and the
+    rated load from its MBL); giving a property as well, with another value, is refused."""
+    from mjtether.makeup import load_line_types
+
+    lt = load_line_types()["steel_armoured_umbilical_17mm"]
+    sc = load_scenario(text=small(1.0).replace("diameter = 0.03\ndensity = 2500.0\nEA = 5.0e6\n",
+                                               'line_type = "steel_armoured_umbilical_17mm"\n'))
+    t = tether_from(sc)
+    assert (t.diameter, t.mu, t.EA, t.EI, t.cd_normal) == (lt.diameter, lt.mass_per_length, lt.EA, lt.EI, lt.cd_normal)
+    assert sc.tether.rated_load == lt.mbl
+    with pytest.raises(ScenarioError, match="tether.diameter = 0.03: tether.line_type = 'steel_armoured_umbilical_17mm'"):
+        load_scenario(text=small(1.0).replace("EA = 5.0e6\n", 'EA = 5.0e6\nline_type = "steel_armoured_umbilical_17mm"\n'))
