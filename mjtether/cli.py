@@ -48,11 +48,33 @@ def main(argv=None) -> int:
     solve_cmd = sub.add_parser("solve", help="print the quasi-static answer for a scenario's initial state")
     solve_cmd.add_argument("scenario", nargs="?", help="scenario TOML file or MoorDyn v2 input file (default: the built-in scenario)")
     _set_option(solve_cmd)
+    sweep_cmd = sub.add_parser("sweep", help="run a scenario over a grid or a random sample of key values; one "
+                               "row of figures per case (see mjtether.sweep)")
+    sweep_cmd.add_argument("scenario", help="scenario TOML file")
+    _set_option(sweep_cmd)
+    sweep_cmd.add_argument("--vary", action="append", required=True, metavar="KEY=SPEC",
+                           help="a key and its values (repeatable): START:STOP:COUNT (both ends included, e.g. "
+                                "tether.length=200:1000:9) or a list V1,V2,... (e.g. "
+                                "water.current.surface_speed_kn=0,1,2); the cases are their product")
+    sweep_cmd.add_argument("--samples", type=int, metavar="K",
+                           help="K random cases instead of the product (uniform within each range / over each list)")
+    sweep_cmd.add_argument("--seed", type=int, default=0, help="random seed of --samples (default 0)")
+    sweep_cmd.add_argument("--jobs", type=int, metavar="N", help="cases run at a time (default 1: in this process)")
+    sweep_cmd.add_argument("--ray", nargs="?", const="", metavar="ADDRESS",
+                           help="run the cases as Ray tasks (a new local Ray, or the cluster at ADDRESS)")
+    sweep_cmd.add_argument("--out", required=True, metavar="DIR",
+                           help="results folder: cases.csv, cases.parquet, summary.png (an interrupted sweep "
+                                "resumes when the same command is run again)")
+    sweep_cmd.add_argument("--overwrite", action="store_true", help="replace DIR only if it holds an earlier sweep")
+    sweep_cmd.add_argument("--restart", action="store_true",
+                           help="run every case again, discarding those an interrupted sweep into DIR finished")
     args = ap.parse_args(argv)
     if args.command == "run":
         return _run(args)
     if args.command == "solve":
         return _solve(args)
+    if args.command == "sweep":
+        return _sweep(args)
     if args.command == "render":
         return _render(args)
     if args.command == "convert":
@@ -267,6 +289,12 @@ def _convert(args) -> int:
         return 1
     print(f"wrote {args.target}")
     return 0
+
+
+def _sweep(args) -> int:
+    from . import sweep
+
+    return sweep.cli(args)
 
 
 def _solve(args) -> int:

@@ -561,14 +561,16 @@ class ScenarioRun:
         self.sim.close()
 
 
-def run(sc: Scenario, progress=None, keep_nodes: bool = True, video=None):
+def run(sc: Scenario, progress=None, keep_nodes: bool = True, video=None, on_start=None, on_end=None):
     """Simulate ``sc``; returns (rows (n, len(RECORD_FIELDS)), history, info). ``history`` has
     ``nodes`` (n, e+1, 3) m, ``tension`` (n, e) N and ``element_length`` (n, e) m for every one
     of the e elements allocated (numbered from the drum's core; see ``element_record``), each
     sample (only the first with ``keep_nodes=False``).
     ``progress(k, n)`` is called as it goes. ``video(runner)`` makes a ``render.VideoRecorder``
     for the built run; frames are then taken as they fall due and the file is finished, or
-    deleted if the run fails. Raises ``RunFailed`` (or ``SimulationDiverged``)."""
+    deleted if the run fails. ``on_start(runner)`` is called once the run is built and started,
+    ``on_end(runner)`` after its last step (not if it fails), e.g. to read what the records do
+    not hold. Raises ``RunFailed`` (or ``SimulationDiverged``)."""
     dt = sc.simulation.timestep
     n_steps = int(round(sc.simulation.duration / dt))
     every = max(1, int(round(sc.simulation.output_interval / dt)))
@@ -577,6 +579,8 @@ def run(sc: Scenario, progress=None, keep_nodes: bool = True, video=None):
     runner = ScenarioRun(sc)
     rec = None
     try:
+        if on_start is not None:
+            on_start(runner)
         rec = video(runner) if video is not None else None
         rows.append(runner.record())
         hist.append(runner.element_record())
@@ -596,6 +600,8 @@ def run(sc: Scenario, progress=None, keep_nodes: bool = True, video=None):
         rows = np.array(rows)
         if not np.all(np.isfinite(rows)):
             raise RunFailed("the run produced non-finite values")
+        if on_end is not None:
+            on_end(runner)
         if rec is not None:
             rec.finish()
     except BaseException:
