@@ -3,14 +3,12 @@
 from __future__ import annotations
 
 import argparse
-import contextlib
-import signal
 import sys
-import threading
 
 from pathlib import Path
 
 from . import _checks, demo
+from .outdir import terminate_as_exit
 from .units import knots
 
 
@@ -219,7 +217,7 @@ def _render(args) -> int:
         print(f"mjtether render: {exc}", file=sys.stderr)
         return 2
     try:
-        with _terminate_as_exit():  # the half-written video is removed on SIGTERM too
+        with terminate_as_exit():  # the half-written video is removed on SIGTERM too
             done = _simulate(sc, "render", "video", keep_nodes=False, video=video)
     except KeyboardInterrupt:
         print("mjtether render: interrupted; no video written", file=sys.stderr)
@@ -231,24 +229,6 @@ def _render(args) -> int:
     print(f"{v['frames']} frames ({info['simulated_s']:.1f} s at {v['fps']:g} fps, camera {v['camera']}) in "
           f"{info['wall_time_s']:.1f} s; tension colours 0-{v['tension_scale_N']:g} N; wrote {v['file']}")
     return 0
-
-
-@contextlib.contextmanager
-def _terminate_as_exit():
-    """SIGTERM raises SystemExit(143) while inside, so that ``finally`` and ``except``
-    clean-ups run (the default action kills the process with no clean-up at all)."""
-    if threading.current_thread() is not threading.main_thread():
-        yield
-        return
-
-    def on_term(signum, frame):
-        raise SystemExit(128 + signum)
-
-    old = signal.signal(signal.SIGTERM, on_term)
-    try:
-        yield
-    finally:
-        signal.signal(signal.SIGTERM, old)
 
 
 def _convert(args) -> int:

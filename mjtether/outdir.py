@@ -403,3 +403,21 @@ def _reason(exc: OSError) -> str:
 
 def _disk_message(exc: OSError, target: Path) -> str:
     return f"{_reason(exc)} while writing results to {str(target)!r}: nothing was written"
+
+
+@contextlib.contextmanager
+def terminate_as_exit():
+    """SIGTERM raises SystemExit(143) while inside, so that ``finally`` and ``except`` clean-ups
+    run (SIGTERM's default action kills the process with none); only in the main thread."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+
+    def on_term(signum, frame):
+        raise SystemExit(128 + signum)
+
+    old = signal.signal(signal.SIGTERM, on_term)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, old)

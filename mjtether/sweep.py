@@ -92,6 +92,7 @@ from pathlib import Path
 import numpy as np
 
 from .config import ConfigError, Param, params, subsections, unknown_key_message
+from .outdir import terminate_as_exit
 from .scenario import Scenario, load_scenario
 from .units import KNOT
 
@@ -899,24 +900,6 @@ def require_pyarrow() -> None:
                          "pip install mjtether[sweep]") from None
 
 
-@contextlib.contextmanager
-def _sigterm_as_exit():
-    """SIGTERM raises SystemExit(143) while inside (so that workers are stopped and the
-    interrupt is reported); only in the main thread."""
-    if threading.current_thread() is not threading.main_thread():
-        yield
-        return
-
-    def on_term(signum, frame):
-        raise SystemExit(128 + signum)
-
-    old = signal.signal(signal.SIGTERM, on_term)
-    try:
-        yield
-    finally:
-        signal.signal(signal.SIGTERM, old)
-
-
 def sweep(scenario, vary: list[str], out, *, sets=(), samples: int | None = None, seed: int = 0,
           jobs: int | None = None, ray: str | None = None, overwrite: bool = False, restart: bool = False,
           progress: bool = True, log=print) -> Path:
@@ -979,7 +962,7 @@ def sweep(scenario, vary: list[str], out, *, sets=(), samples: int | None = None
 
         t0 = time.perf_counter()
         try:
-            with _sigterm_as_exit():
+            with terminate_as_exit():
                 if todo and ray is not None:
                     run_ray(todo, ray or None, jobs, on_result)
                 elif todo:
