@@ -165,14 +165,17 @@ class Ship:
             if np.linalg.norm(target - p) < 1e-6:
                 self._wp += 1
         else:
-            target = p
-        step = target - p
-        dist = float(np.linalg.norm(step))
-        if dist > 0:
-            p = p + step * min(1.0, self.speed * dt / dist)
-        self.position = p
+            target = None  # holding station
+        if target is not None:
+            step = target - p
+            dist = float(np.linalg.norm(step))
+            if dist > 0:
+                p = p + step * min(1.0, self.speed * dt / dist)
+            self.position = p
+        if not self.heave_amplitude:
+            return p
         heave = self.heave_amplitude * math.sin(2 * math.pi * t / self.heave_period)
-        return p + np.array([0.0, 0.0, heave])
+        return p + (0.0, 0.0, heave)
 
 
 class ScenarioRun:
@@ -268,6 +271,7 @@ class ScenarioRun:
         self._since_control = 1.0 / CONTROL_HZ  # the first call sets the targets
         self.heading_ref = self.heading  # rad, the commanded heading (the turn rate integrated)
         self._speed = 0.0  # m/s, the speed the gait is given (ramped towards the command)
+        self._vel6 = np.zeros(6)  # mj_objectVelocity's output
         if self.walker:
             self.gait.bind(m, prefix="walker/")
             self.torso = m.body("walker/torso").id
@@ -504,12 +508,13 @@ class ScenarioRun:
         d = self.sim.data
         bt = self.bt
         x = d.flexvert_xpos[bt.vertadr + bt.n - 1:bt.vertadr + bt.n + 1]  # the last two nodes
-        e = x[-1, :2] - x[-2, :2]
-        if np.hypot(*e) < 1e-3 * self.bt.l0:
-            e = x[-1, :2] - d.mocap_pos[self.ship_mocap][:2]
-        vel = np.zeros(6)
+        ex, ey = float(x[1, 0] - x[0, 0]), float(x[1, 1] - x[0, 1])
+        if math.hypot(ex, ey) < 1e-3 * bt.l0:
+            ship = d.mocap_pos[self.ship_mocap]
+            ex, ey = float(x[1, 0] - ship[0]), float(x[1, 1] - ship[1])
+        vel = self._vel6
         mujoco.mj_objectVelocity(self.sim.model, d, mujoco.mjtObj.mjOBJ_SITE, self.tow_site, vel, 0)
-        return float(vel[3:5] @ e / max(np.hypot(*e), 1e-9))
+        return float(vel[3] * ex + vel[4] * ey) / max(math.hypot(ex, ey), 1e-9)
 
     def step(self) -> None:
         sim, dt = self.sim, self.sim.timestep
@@ -520,10 +525,12 @@ class ScenarioRun:
         fair = self.ship.advance(dt, t, tow)
         sim.data.mocap_pos[self.ship_mocap] = fair
         tension = self.bt.end_tension(sim.data, "start")
-        self.bt.set_length(self.winch.advance(dt, t, tension, self.progress_rate()), rate=self.winch.current_rate)
+        progress = self.progress_rate() if self.winch.mode == "follow" else 0.0
+        self.bt.set_length(self.winch.advance(dt, t, tension, progress), rate=self.winch.current_rate)
         sim.step()
-        if self.bt.end_tension(sim.data, "start") > self.rated_load:
-            raise RunFailed(f"ship-end tension {self.bt.end_tension(sim.data, 'start'):.0f} N exceeded the "
+        tension = self.bt.end_tension(sim.data, "start")
+        if tension > self.rated_load:
+            raise RunFailed(f"ship-end tension {tension:.0f} N exceeded the "
                             f"tether's rated load {self.rated_load:g} N at t = {sim.time:.2f} s")
 
     def record(self) -> list:

@@ -51,7 +51,7 @@ def seabed_friction(x: np.ndarray, v: np.ndarray, stick: np.ndarray, *, point: n
     ``normal_force`` (n,) N; ``stiffness`` (n,) N/m and ``damping`` (n,) N s/m of the stick springs.
     Returns (forces (n, 3) N, in the seabed's plane, zero off the seabed; the new stick points)."""
     height = (x - point) @ normal
-    on = (height - radius <= CONTACT_TOLERANCE * 2.0 * radius) & (normal_force > 0.0)
+    on = (height <= (1.0 + 2.0 * CONTACT_TOLERANCE) * radius) & (normal_force > 0.0)
     force, new = np.zeros_like(x), np.full_like(x, np.nan)
     idx = np.flatnonzero(on)
     if len(idx) == 0:
@@ -60,9 +60,8 @@ def seabed_friction(x: np.ndarray, v: np.ndarray, stick: np.ndarray, *, point: n
     # computed whole and the ones off the seabed masked at the end: cheaper in NumPy than
     # selecting the ones on it
     lo, hi = idx[0], idx[-1] + 1
-    f, new[lo:hi] = _stick_slip(x[lo:hi], v[lo:hi], stick[lo:hi], height[lo:hi], on[lo:hi], normal,
-                                mu * normal_force[lo:hi], stiffness[lo:hi], damping[lo:hi])
-    force[lo:hi] = f
+    force[lo:hi], new[lo:hi] = _stick_slip(x[lo:hi], v[lo:hi], stick[lo:hi], height[lo:hi], on[lo:hi], normal,
+                                           mu * normal_force[lo:hi], stiffness[lo:hi], damping[lo:hi])
     return force, new
 
 
@@ -77,7 +76,7 @@ def _stick_slip(x, v, stick, height, on, normal, limit, stiffness, damping):
     s = xt + (s - xt) * scale[:, None]
     f *= scale[:, None]
     f -= damping[:, None] * vt
-    f *= np.minimum(1.0, limit / np.maximum(np.sqrt(np.einsum("ij,ij->i", f, f)), 1e-300))[:, None]
-    f *= on[:, None]
+    scale = np.minimum(1.0, limit / np.maximum(np.sqrt(np.einsum("ij,ij->i", f, f)), 1e-300))
+    f *= (scale * on)[:, None]
     s[~on] = np.nan
     return f, s

@@ -237,27 +237,32 @@ class BoundTether:
         the same bookkeeping for the fairlead node, the first free node and the two elements at
         them, in scalar arithmetic (this runs at every step of a paying-out winch)."""
         m, k, n, l0, mu = self.model, self.first, self.n, self.l0, self._mu
+        body_mass, armature, invweight = m.body_mass, m.dof_armature, m.tendon_invweight0
+        eq_solref, eq_solimp = m.eq_solref, m.eq_solimp
         s = self.drum_rest
         self._rest[k] = s  # (_deployed_rest is a view of it)
         c = self.fairlead_share
         ap = self._added_per_m
         i_ref = self._i_ref
+        inertia = self._inertia
         right = l0 if k + 1 < n else 0.0
-        masses = (mu * c, mu * ((s - c) + 0.5 * right))
-        added = (ap[k] * c, ap[k] * (s - c) + (0.5 * ap[k + 1] * right if k + 1 < n else 0.0))
-        for i, mass, add in ((k, masses[0], added[0]), (k + 1, masses[1], added[1])):
-            arm = max(i_ref - mass, add) if i in (k, n) else add
+        for i, mass, add in ((k, mu * c, float(ap[k]) * c),
+                             (k + 1, mu * ((s - c) + 0.5 * right),
+                              float(ap[k]) * (s - c) + (0.5 * float(ap[k + 1]) * right if k + 1 < n else 0.0))):
+            arm = max(i_ref - mass, add) if i == k or i == n else add
             arm = max(arm, 1e-9 * i_ref)
-            m.body_mass[self._bids[i]] = mass
-            m.dof_armature[self._dof0 + 3 * i:self._dof0 + 3 * i + 3] = arm
-            self._inertia[i] = mass + arm
-        dt, zeta = m.opt.timestep, self.spec.axial_damping_ratio
+            body_mass[self._bids[i]] = mass
+            dof = self._dof0 + 3 * i
+            armature[dof:dof + 3] = arm
+            inertia[i] = mass + arm
+        dt, zeta, EA = m.opt.timestep, self.spec.axial_damping_ratio, self.spec.EA
         for j in range(k, min(k + 2, n)):
-            inv = 1.0 / self._inertia[j] + 1.0 / self._inertia[j + 1]
-            S, B, d = axial_scalar(self.spec.EA, self._rest[j], inv, dt, zeta)
-            m.tendon_invweight0[self.tadr + j] = inv
-            m.eq_solref[self.eq0 + j] = (-S, -B)
-            m.eq_solimp[self.eq0 + j, :2] = d
+            inv = 1.0 / float(inertia[j]) + 1.0 / float(inertia[j + 1])
+            S, B, d = axial_scalar(EA, float(self._rest[j]), inv, dt, zeta)
+            invweight[self.tadr + j] = inv
+            e = self.eq0 + j
+            eq_solref[e] = (-S, -B)
+            eq_solimp[e, 0] = eq_solimp[e, 1] = d
             self._lead[j] = B / S
             self._K[j] = S / ((1.0 - d) * inv)
         m.eq_data[self.eq0 + k, 0] = (s + self._lead[k] * self.payout_rate - m.tendon_length0[self.tadr + k])
@@ -440,21 +445,21 @@ class BoundTether:
         """``seabed.seabed_friction`` for the deployed nodes; with ``preload`` (N per node), the
         stick points are first placed so that the springs pull with it (up to mu N)."""
         point, normal, w = self._seabed
-        k, m = self.first, self.model
+        k = self.first
         if self.makeup is not None:  # (a buoyant node does not press on the seabed)
-            normal_force = np.maximum(self._node_wet, 0.0)
+            normal_force = np.maximum(self._node_wet[k:], 0.0)
         elif w <= 0.0:  # a buoyant cable does not press on the seabed
             return np.zeros_like(x), np.full_like(x, np.nan)
-        else:
-            half = 0.5 * self.rest_lengths[k:]
-            share = np.zeros(len(half) + 1)  # each node's half of its elements
-            share[:-1] += half
-            share[1:] += half
-            normal_force = w * share
-        dofs = self._dof0 + 3 * np.arange(k, self.n + 1)
-        mass = m.body_mass[self._bids[k:]] + m.dof_armature[dofs]
-        stiffness = STICK_STIFFNESS * mass / m.opt.timestep ** 2
-        damping = 2.0 * STICK_DAMPING * np.sqrt(stiffness * mass)
+        else:  # each node's half of its elements
+            half = (0.5 * w) * self._deployed_rest
+            normal_force = np.empty(len(half) + 1)
+            normal_force[:-1] = half
+            normal_force[-1] = 0.0
+            normal_force[1:] += half
+        mass = self._inertia[k:]  # body mass + armature (added mass)
+        dt = self.model.opt.timestep
+        stiffness = (STICK_STIFFNESS / dt ** 2) * mass
+        damping = (2.0 * STICK_DAMPING * math.sqrt(STICK_STIFFNESS) / dt) * mass  # 2 zeta sqrt(k m)
         if preload is not None:
             foot = x - ((x - point) @ normal)[:, None] * normal
             stick = foot + preload / stiffness[:, None]
@@ -832,36 +837,36 @@ class Simulation:
             self._diverged(self._t_step, "MuJoCo found a non-finite or huge " + " and ".join(what)
                            + (f"; a step earlier {self._furthest()}" if self._worst else ""))
         worst = []
+        qvel, ten_length = d.qvel, d.ten_length
         for name, t in self.tethers.items():
             k = t.first
-            v = d.qvel[t._dof0 + 3 * k:t._dof0 + 3 * (t.n + 1)].copy()
-            vmax = float(np.abs(v).max())
-            if vmax > MAX_NODE_SPEED:
-                i = int(np.argmax(np.abs(v))) // 3
-                self._diverged(d.time, f"{name} node {i} (of {t.N + 1} deployed, 0 at the ship) moves at "
+            v = qvel[t._dof0 + 3 * k:t._dof0 + 3 * (t.n + 1)]
+            i = int(np.argmax(np.abs(v)))
+            vmax = abs(float(v[i]))
+            if not vmax <= MAX_NODE_SPEED:  # (NaN too)
+                self._diverged(d.time, f"{name} node {i // 3} (of {t.N + 1} deployed, 0 at the ship) moves at "
                                        f"{vmax:.3g} m/s")
             if t.spec.EA is not None:
                 # stretch over the nominal element length (the drum element may be short)
-                strain = (d.ten_length[t.tadr + k:t.tadr + t.n] - t._deployed_rest) / t.l0
-                j = int(np.argmax(strain))
-                if strain[j] > MAX_STRAIN:
+                stretch = ten_length[t.tadr + k:t.tadr + t.n] - t._deployed_rest
+                j = int(np.argmax(stretch))
+                strain = float(stretch[j]) / t.l0
+                if strain > MAX_STRAIN:
                     self._diverged(d.time, f"{name} element {j} (0 at the ship) is stretched by "
-                                           f"{100 * strain[j]:.0f} % (EA {t.spec.EA:g} N)")
-                worst.append((name, v, strain))
+                                           f"{100 * strain:.0f} % (EA {t.spec.EA:g} N)")
+                worst.append((name, i // 3, vmax, j, strain))
             else:
-                worst.append((name, v, None))
+                worst.append((name, i // 3, vmax, None, None))
         self._worst = worst  # formatted only if the next step fails (see _furthest)
 
     def _furthest(self) -> str:
         """What was furthest out after the last good step: each tether's fastest node and most
         stretched element."""
         out = []
-        for name, v, strain in self._worst:
-            i = int(np.argmax(np.abs(v))) // 3
-            out.append(f"{name} node {i} (0 at the ship) moved fastest, at {np.abs(v).max():.3g} m/s")
-            if strain is not None:
-                j = int(np.argmax(strain))
-                out.append(f"element {j} was the most stretched, by {100 * strain[j]:.2g} %")
+        for name, i, vmax, j, strain in self._worst:
+            out.append(f"{name} node {i} (0 at the ship) moved fastest, at {vmax:.3g} m/s")
+            if j is not None:
+                out.append(f"element {j} was the most stretched, by {100 * strain:.2g} %")
         return ", ".join(out)
 
     def _dof_name(self, dof: int) -> str:
