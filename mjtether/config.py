@@ -137,6 +137,13 @@ def section(cls):
     return field(default_factory=cls)
 
 
+def tables(cls, doc: str = ""):
+    """A field holding a list of ``cls`` sections, ``[[key]]`` arrays of tables in TOML (e.g.
+    ``[[tether.sections]]``); none by default. Items are numbered from 0 in error messages
+    (``tether.sections[1].length``)."""
+    return field(default=(), metadata={"tables": cls, "doc": doc})
+
+
 class Section:
     """Base of the configuration sections: frozen dataclasses checked on construction.
     ``PATH`` is the section's key path (``"water.current"``); ``_check`` holds the checks
@@ -148,6 +155,9 @@ class Section:
         for f in fields(self):
             p = f.metadata.get("param")
             value = getattr(self, f.name)
+            if "tables" in f.metadata:
+                object.__setattr__(self, f.name, self._check_tables(f.name, f.metadata["tables"], value))
+                continue
             if p is None:
                 sub = f.default_factory
                 if not isinstance(value, sub):
@@ -159,6 +169,15 @@ class Section:
 
     def _check(self) -> None:
         """Cross-field checks (override)."""
+
+    def _check_tables(self, name: str, cls, value) -> tuple:
+        key = self._key(name)
+        if not _is_sequence(value):
+            raise ConfigError(f"{key} must be a list of [[{key}]] tables, got {_show(value)}", key)
+        for i, item in enumerate(value):
+            if not isinstance(item, cls):
+                raise ConfigError(f"{key}[{i}] must be a [[{key}]] table ({cls.__name__}), got {item!r}", f"{key}[{i}]")
+        return tuple(value)
 
     @classmethod
     def _key(cls, name: str) -> str:
@@ -173,7 +192,10 @@ class Section:
         out = {}
         for f in fields(self):
             v = getattr(self, f.name)
-            out[f.name] = v.to_dict() if isinstance(v, Section) else _plain(v)
+            if "tables" in f.metadata:
+                out[f.name] = [item.to_dict() for item in v]
+            else:
+                out[f.name] = v.to_dict() if isinstance(v, Section) else _plain(v)
         return out
 
     def replace(self, **changes):
@@ -203,7 +225,12 @@ def params(cls) -> dict[str, Param]:
 
 def subsections(cls) -> dict[str, type]:
     """{field name: section class} of a section class's nested sections."""
-    return {f.name: f.default_factory for f in fields(cls) if "param" not in f.metadata}
+    return {f.name: f.default_factory for f in fields(cls) if "param" not in f.metadata and "tables" not in f.metadata}
+
+
+def table_lists(cls) -> dict[str, type]:
+    """{field name: item section class} of a section class's ``tables`` fields."""
+    return {f.name: f.metadata["tables"] for f in fields(cls) if "tables" in f.metadata}
 
 
 def build(cls, raw, where: str = ""):
@@ -214,12 +241,18 @@ def build(cls, raw, where: str = ""):
     if not isinstance(raw, dict):
         key = cls.PATH
         raise ConfigError(f"{prefix}{key} must be a section [{key}], got {raw!r}", key)
-    ps, subs = params(cls), subsections(cls)
+    ps, subs, lists = params(cls), subsections(cls), table_lists(cls)
     kwargs = {}
     for k, v in raw.items():
         base = k[:-3] if k.endswith("_kn") and k[:-3] in ps and ps[k[:-3]].knots else k
         if base in subs:
             kwargs[base] = build(subs[base], v, where)
+            continue
+        if base in lists:
+            key = cls._key(base)
+            if not isinstance(v, list) or not all(isinstance(item, dict) for item in v):
+                raise ConfigError(f"{prefix}{key} must be a list of [[{key}]] tables, got {_show(v)}", key)
+            kwargs[base] = [_build_item(lists[base], item, where, f"{key}[{i}]") for i, item in enumerate(v)]
             continue
         if base not in ps:
             raise ConfigError(prefix + unknown_key_message(cls, k), cls._key(k))
@@ -235,6 +268,18 @@ def build(cls, raw, where: str = ""):
         raise ConfigError(prefix + str(exc), exc.key) from None
 
 
+def _build_item(cls, raw: dict, where: str, key: str):
+    """``build`` of one table of an array of tables, its errors naming ``key`` (``tether.sections[1]``)."""
+    try:
+        return build(cls, raw, where)
+    except ConfigError as exc:
+        msg, k = str(exc), exc.key
+        if k.startswith(cls.PATH):
+            k = key + k[len(cls.PATH):]
+        msg = msg.replace(f"{cls.PATH}.", f"{key}.").replace(f"[{cls.PATH}]", f"[[{cls.PATH}]] {key}")
+        raise ConfigError(msg, k) from None
+
+
 RENAMED: dict[str, str] = {}
 """Keys of earlier versions that now have another name: {old key path: message}."""
 
@@ -243,7 +288,7 @@ def unknown_key_message(cls, key: str) -> str:
     path = cls._key(key)
     if path in RENAMED:
         return f"{path}: {RENAMED[path]}"
-    allowed = sorted(params(cls)) + sorted(subsections(cls))
+    allowed = sorted(params(cls)) + sorted(subsections(cls)) + sorted(table_lists(cls))
     close = difflib.get_close_matches(key, allowed, n=1)
     hint = f" (did you mean {close[0]}?)" if close else ""
     where = f"[{cls.PATH}]" if cls.PATH else "the top level"
@@ -265,6 +310,11 @@ def markdown_table(cls) -> list[str]:
         lines.append(f"| {name} | {p.kind} | {default} | {allowed} | {p.unit} | {p.doc} |")
     if params(cls):
         lines.append("")
+    for name, item in table_lists(cls).items():
+        meta = next(f for f in fields(cls) if f.name == name).metadata
+        lines += [f"### [[{item.PATH}]]", "", meta["doc"], "", "| key | type | default | allowed | unit | meaning |",
+                  "|---|---|---|---|---|---|"]
+        lines += markdown_table(item)[4:]
     for sub in subsections(cls).values():
         lines += markdown_table(sub)
     return lines

@@ -26,7 +26,7 @@ from __future__ import annotations
 
 import math
 import tomllib
-from dataclasses import dataclass, fields
+from dataclasses import dataclass, fields, replace
 from functools import cached_property
 from importlib.resources import files
 
@@ -262,6 +262,34 @@ class LineMakeup:
                 loads.append(DistributedBuoyancy(max(L - p.end, 0.0), L - p.start, p.volume_per_length,
                                                  p.mass_per_length, p.cd_area_per_length, p.ca, p.name))
         return LineMakeup(self.sections[::-1], tuple(loads))
+
+    def truncated(self, length: float) -> "LineMakeup":
+        """The top ``length`` m of the line (e.g. all but the part rising to a walker's tow
+        point): the sections up to there, the last one cut with its element length kept as near
+        as a whole number of elements allows (at least one). Point loads and floats must lie
+        within the kept part (ValueError otherwise: where the line was cut they would have no
+        place)."""
+        L = self.length
+        length = _checks.in_range("line_makeup.truncated length", length, 1e-3, L, "m")
+        if length >= L * (1 - 1e-12):
+            return self
+        for p in self.loads:
+            end = p.arc_length if isinstance(p, PointLoad) else p.end
+            if end > length + 1e-9 * L:
+                what = f"point load {p.name!r} at {p.arc_length:g} m" if isinstance(p, PointLoad) else \
+                    f"floats {p.name!r} up to {p.end:g} m"
+                raise ValueError(f"line_makeup: the {what} lies in the last {L - length:.3g} m of the line, which "
+                                 "is cut off here (it rises straight to the tow point); move it up the line")
+        sections = []
+        for sec, (a, b) in zip(self.sections, zip(self.section_bounds[:-1], self.section_bounds[1:])):
+            if a >= length:
+                break
+            if b <= length:
+                sections.append(sec)
+                continue
+            keep = length - a
+            sections.append(replace(sec, length=keep, segments=max(1, round(keep / sec.segment_length))))
+        return LineMakeup(tuple(sections), self.loads)
 
     # ------------------------------------------------------------------ geometry
 

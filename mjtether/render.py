@@ -363,7 +363,7 @@ class FrameRenderer:
         x = r.bt.nodes(d)
         view = self._place_camera(x)
         mujoco.mjv_updateScene(m, d, self.opt, None, self.cam, mujoco.mjtCatBit.mjCAT_ALL, self.scene)
-        width = max(r.tether_spec.diameter / 2, 0.0025 * view)
+        width = max(r.end_diameter / 2, 0.0025 * view)
         self._add_tether(x, r.bt.tension(d), width)
         self._add_water_and_current(x, view)
         self._add_markers()

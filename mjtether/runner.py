@@ -23,12 +23,13 @@ import mujoco
 import numpy as np
 
 from . import builder, water as wm
-from .quasistatic import initial_state
+from .quasistatic import initial_state, steady_state
 from .rigidbody import add_body_hydro
 from .scenario import Scenario
 from .simulation import Simulation
 from .walker import HYDRO as WALKER_HYDRO
 from .walker import Tripod, walker_spec
+from .makeup import LineMakeup
 from .tether import TetherSpec
 from .winch import Winch
 
@@ -129,6 +130,16 @@ def tether_from(sc: Scenario) -> TetherSpec:
                       cd_tangential=t.cd_tangential, ca_normal=t.ca_normal, EA=t.EA or None, EI=t.EI)
 
 
+def makeup_from(sc: Scenario) -> LineMakeup | None:
+    """The scenario's line make-up (sections, point loads, floats), or None for a uniform tether.
+    Point loads and floats on a uniform tether make a one-section make-up of it."""
+    t = sc.tether
+    if not t.is_makeup:
+        return None
+    sections = [x.to_makeup() for x in t.sections] or list(LineMakeup.uniform(tether_from(sc)).sections)
+    return LineMakeup(sections, [p.to_makeup() for p in (*t.point_loads, *t.floats)])
+
+
 def winch_from(sc: Scenario) -> Winch:
     w = sc.winch
     return Winch(length=sc.tether.length, mode=w.mode, min_length=w.min_length, max_length=w.max_length,
@@ -185,6 +196,9 @@ class ScenarioRun:
         self.sc = sc
         self.water = water_from(sc)
         self.tether_spec = tether_from(sc)
+        self.makeup = makeup_from(sc)
+        # what the quasi-static solver and the builder take: the make-up, or the uniform cable
+        self.line = self.makeup if self.makeup is not None else self.tether_spec
         self.winch = winch_from(sc)
         self.ship = Ship.from_scenario(sc)
         dt = sc.simulation.timestep
@@ -201,7 +215,7 @@ class ScenarioRun:
         ship.add_site(name="ship/fairlead")
         ship.add_geom(type=mujoco.mjtGeom.mjGEOM_BOX, size=[4.0, 1.5, 1.0], pos=[0, 0, 1.0], contype=0,
                       conaffinity=0, rgba=[0.8, 0.8, 0.85, 1])
-        radius = self.tether_spec.diameter / 2
+        radius = self.end_diameter / 2
         r = sc.robot
         self.walker = r.type == "walker"
         self.heading = math.radians(r.heading_deg) if self.walker else None
@@ -250,11 +264,12 @@ class ScenarioRun:
             hold = spec.add_equality(name="walker/hold", type=mujoco.mjtEq.mjEQ_WELD, objtype=mujoco.mjtObj.mjOBJ_BODY,
                                      name1="walker/torso")
             hold.active = True
-        self.tm = builder.add_tether(spec, self.tether_spec, builder.SitePoint("ship/fairlead"), end,
+        self.tm = builder.add_tether(spec, self.line, builder.SitePoint("ship/fairlead"), end,
                                      water=self.water, nodes=nodes, seabed_friction=sc.tether.seabed_friction,
                                      seabed_stiffness=sc.water.seabed_stiffness or None,
                                      seabed_damping=sc.water.seabed_damping,
-                                     max_length=self.winch.max_length, end_at=robot if self.walker else None)
+                                     max_length=None if self.makeup is not None else self.winch.max_length,
+                                     end_at=robot if self.walker else None)
         self.sim = Simulation(spec, self.water, tethers=[self.tm], bodies=bodies)
         try:
             if self.initial is not None:  # the steady state's seabed friction, carried into the run
@@ -353,6 +368,11 @@ class ScenarioRun:
             self.gait.phase = gait.phase  # the run goes on stepping from where it stood
             return pose, d.site_xpos[m.site("walker/tow_point").id].copy()
 
+    @property
+    def end_diameter(self) -> float:
+        """Diameter (m) of the cable at the robot end (of the last section of a make-up)."""
+        return float(self.makeup.element_diameter[-1]) if self.makeup is not None else self.tether_spec.diameter
+
     def seabed_z(self, x, y):
         """Height (m) of the (possibly sloped) seabed at ``x``, ``y`` (m)."""
         return builder.seabed_height(self.water, x, y, self.slope, self.slope_heading)
@@ -362,7 +382,7 @@ class ScenarioRun:
         seabed is taken one cable radius lower, where the cable's axis lies), or ``None`` and
         why, if there is none; the run then stops, or starts from ``_fallback_nodes`` and
         settles where the scenario asks for it (``simulation.start``)."""
-        radius = self.tether_spec.diameter / 2
+        radius = self.end_diameter / 2
         # the cable's axis rests one radius above the seabed; a walker's tow point is higher: the
         # steady state is solved to the point on the seabed under it, for the length less that
         # height, and the cable then rises straight up to the tow point (on a sloped seabed: a
@@ -373,9 +393,9 @@ class ScenarioRun:
         foot = np.array([robot[0], robot[1], robot[2] - rise])
         water = wm.WaterColumn(depth=depth, density=self.water.density,
                                current=self.water.current, gravity=self.water.gravity)
-        L = self.tether_spec.length
+        L = self.line.length
         reach = float(np.linalg.norm(robot - top))
-        if self.tether_spec.EA is None and reach >= L:
+        if self.makeup is None and self.tether_spec.EA is None and reach >= L:
             return None, (f"no steady state (an inextensible tether of {L:g} m cannot reach from the ship to the "
                           f"robot, {reach:.2f} m away)")
         if rise >= 0.5 * L:
@@ -383,22 +403,23 @@ class ScenarioRun:
         ss, note = self._solve_start(water, top, foot, dt, length=L - rise)
         if ss is None:
             return None, note
-        if rise > 0:  # material points s_k = k L / N on the solved line, then up to the tow point
-            N = self.tether_spec.segments
-            s_solved = np.linspace(0.0, L - rise, N + 1)
+        if rise > 0:  # the nodes' material points on the solved line, then up to the tow point
+            s_solved = self._arc_lengths(L - rise)
             pts = np.vstack([ss.nodes, robot])
             s_pts = np.r_[s_solved, L]
-            s_new = np.linspace(0.0, L, N + 1)
+            s_new = self._arc_lengths(L)
             nodes = np.c_[[np.interp(s_new, s_pts, pts[:, k]) for k in range(3)]].T
             ss = replace(ss, nodes=nodes, velocity=np.zeros_like(nodes), tension=np.interp(
                 0.5 * (s_new[1:] + s_new[:-1]), 0.5 * (s_solved[1:] + s_solved[:-1]), ss.tension))
         x = ss.nodes
-        EA = self.tether_spec.EA
-        if EA is not None and ss.tension.max() > MAX_START_STRAIN * EA:
+        EA = self.tether_spec.EA if self.makeup is None else self.makeup.element_EA  # (inf or NaN: inextensible)
+        strain = np.nan_to_num(ss.tension / (np.inf if EA is None else EA), nan=0.0)
+        if strain.max() > MAX_START_STRAIN:
+            j = int(np.argmax(strain))
             return None, (f"no steady state within the tether's strength (it would be stretched by "
-                          f"{100 * ss.tension.max() / EA:.0f} %, at {ss.tension.max():.3g} N)")
+                          f"{100 * strain[j]:.0f} %, at {ss.tension[j]:.3g} N)")
         below = float(np.max(self.seabed_z(x[:, 0], x[:, 1]) + radius - x[:, 2]))
-        if below > self.tether_spec.diameter:
+        if below > 2 * radius:
             return None, f"no steady state clear of the sloped seabed (it crosses it by {below:.2f} m)"
         return ss, note
 
@@ -411,6 +432,8 @@ class ScenarioRun:
         ``BoundTether.preload_friction``).
         Returns (state, note) or (None, why)."""
         cb = self.sc.tether.seabed_friction
+        if self.makeup is not None:
+            return self._solve_makeup_start(water, top, robot, length)
         spec = self.tether_spec if length is None else replace(self.tether_spec, length=length)
         sim = self.sc.simulation
         layout = dict(layout=sim.laid_layout, layout_angle=math.radians(sim.laid_layout_angle_deg))
@@ -436,12 +459,38 @@ class ScenarioRun:
             return ss, "quasi-static steady state" + (f"{how} (as given: {first})" if how else "")
         return None, f"no steady state (the solver did not converge: {first})"
 
+    def _solve_makeup_start(self, water, top, robot, length=None):
+        """``_solve_start`` for a line make-up: its steady state (``steady_state`` with each
+        section's EA; a slack laid make-up is not solved), with seabed friction, then without."""
+        line = self.makeup if length is None else self.makeup.truncated(length)
+        cb = self.sc.tether.seabed_friction
+        first = None
+        for friction, how in ((cb, ""), (0.0, " without seabed friction")) if cb > 0 else ((0.0, ""),):
+            try:
+                ss = steady_state(line, water, top, robot, seabed=True, seabed_friction=friction)
+            except RuntimeError as exc:  # Newton stalled (NotImplementedError: a slack make-up)
+                if isinstance(exc, NotImplementedError):
+                    return None, f"no steady state ({exc})"
+                first = first or exc
+                continue
+            except ValueError as exc:
+                return None, f"no steady state ({exc})"
+            return ss, "quasi-static steady state of the line make-up" + (f"{how} (as given: {first})" if how else "")
+        return None, f"no steady state (the solver did not converge: {first})"
+
+    def _arc_lengths(self, length: float) -> np.ndarray:
+        """Unstretched arc lengths (m, from the ship) of the nodes of the tether cut to ``length``
+        m (the whole of it, or less its rise to a walker's tow point)."""
+        if self.makeup is None:
+            return np.linspace(0.0, length, self.tether_spec.segments + 1)
+        return self.makeup.truncated(length).node_arc_length
+
     def _fallback_nodes(self, top, robot) -> np.ndarray:
         """A start that stays above the seabed when there is no steady state: the cable hangs
         straight down from the ship to the seabed, then runs along it to the tow point, with any
         excess length laid as a sideways detour (a slack tether coils on the bottom)."""
-        L, N = self.tether_spec.length, self.tether_spec.segments
-        lift = self.tether_spec.diameter / 2 / math.cos(self.slope)  # the cable's axis over the seabed
+        L = self.line.length
+        lift = self.end_diameter / 2 / math.cos(self.slope)  # the cable's axis over the seabed
 
         def on_floor(p):
             return np.array([p[0], p[1], float(self.seabed_z(p[0], p[1])) + lift])
@@ -457,7 +506,7 @@ class ScenarioRun:
         pts = np.array([top, a, *detour, b, robot])
         seg = np.linalg.norm(np.diff(pts, axis=0), axis=1)
         s = np.r_[0.0, np.cumsum(seg)]
-        u = np.linspace(0.0, s[-1], N + 1)
+        u = self._arc_lengths(L) * (s[-1] / L)
         return np.c_[[np.interp(u, s, pts[:, k]) for k in range(3)]].T
 
     def command(self, t: float) -> tuple[float, float]:
@@ -555,7 +604,7 @@ class ScenarioRun:
         """Unstretched tether length (m) lying on the seabed: the deployed elements with both
         nodes within one diameter of it (``x``: the deployed nodes, if already read)."""
         x = self.bt.nodes(self.sim.data) if x is None else x
-        on = x[:, 2] < self.seabed_z(x[:, 0], x[:, 1]) + self.tether_spec.diameter
+        on = x[:, 2] < self.seabed_z(x[:, 0], x[:, 1]) + self.end_diameter
         return float(self.bt.rest_lengths[self.bt.first:][on[1:] & on[:-1]].sum())
 
     def element_record(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

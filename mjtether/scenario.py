@@ -20,7 +20,8 @@ import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 
-from .config import INF, RENAMED, ConfigError, Section, build, param, section, subsections, unknown_key_message
+from .config import (INF, RENAMED, ConfigError, Section, build, param, section, subsections, tables,
+                     unknown_key_message)
 from .tether import MAX_LENGTH, MAX_SEGMENTS, TetherSpec
 from .makeup import load_line_types
 from .walker import Tripod
@@ -141,6 +142,90 @@ class Water(Section):
         return -self.depth + math.tan(math.radians(self.seabed_slope_deg)) * (x * math.cos(h) + y * math.sin(h))
 
 
+_SECTION_PROPS = ("diameter", "mass_per_length", "EA", "EI", "cd_normal", "cd_tangential", "ca_normal")
+
+
+@dataclass(frozen=True)
+class TetherSection(Section):
+    """One section of a line make-up (``[[tether.sections]]``, listed from the ship end)."""
+
+    PATH = "tether.sections"
+    length: float = param(100.0, 1e-3, MAX_LENGTH, "m", "unstretched length of the section")
+    segments: int = param(20, 1, MAX_SEGMENTS, "", "its number of elements (each length / segments long)")
+    line_type: str = param("", doc="a line type of the library, which sets diameter, mass_per_length, EA, EI, the "
+                           "coefficients and mbl (then not given here)", choices=("",) + tuple(LINE_TYPES))
+    diameter: float = param(0.0, 0.0, 2.0, "m", "hydrodynamic and buoyancy diameter (required without line_type)")
+    mass_per_length: float = param(0.0, 0.0, 1e4, "kg/m", "mass per metre in air (required without line_type)")
+    EA: float = param(0.0, 0.0, 1e12, "N", "axial stiffness; 0: inextensible")
+    EI: float = param(0.0, 0.0, 1e9, "N m^2", "bending stiffness")
+    cd_normal: float = param(1.2, 0.0, 10.0, "", "normal drag coefficient (on d l)")
+    cd_tangential: float = param(0.008, 0.0, 10.0, "", "tangential drag coefficient (on pi d l)")
+    ca_normal: float = param(1.0, 0.0, 10.0, "", "added-mass coefficient")
+    mbl: float = param(0.0, 0.0, INF, "N", "minimum breaking load; 0: unknown (a line_type's when it has one)")
+    name: str = param("", doc="a label")
+
+    def _check(self):
+        if self.line_type:
+            lt = LINE_TYPES[self.line_type]
+            for name in _SECTION_PROPS + ("mbl",):
+                have, default = getattr(self, name), _default(type(self), name)
+                want = {"EA": 0.0 if lt.EA is None else lt.EA, "mbl": lt.mbl or 0.0}.get(name, getattr(lt, name, None))
+                if have not in (default, want):
+                    self._bad(name, f"line_type = {self.line_type!r} sets it ({want:g}); give one or the other")
+                object.__setattr__(self, name, float(want))
+            return
+        for name in ("diameter", "mass_per_length"):
+            if not getattr(self, name) > 0:
+                self._bad(name, "must be > 0 (or give a line_type)")
+
+    def to_makeup(self):
+        """This section as a ``mjtether.makeup.Section``."""
+        from .makeup import Section as MakeupSection
+        return MakeupSection(self.length, self.segments, self.diameter, self.mass_per_length, EA=self.EA or None,
+                             EI=self.EI, cd_normal=self.cd_normal, cd_tangential=self.cd_tangential,
+                             ca_normal=self.ca_normal, name=self.name or self.line_type, mbl=self.mbl or None)
+
+
+@dataclass(frozen=True)
+class TetherPointLoad(Section):
+    """A clump weight or buoyancy module on the line (``[[tether.point_loads]]``)."""
+
+    PATH = "tether.point_loads"
+    arc_length: float = param(0.0, 0.0, MAX_LENGTH, "m", "unstretched distance from the ship end")
+    mass: float = param(0.0, 0.0, 1e6, "kg", "mass in air")
+    volume: float = param(0.0, 0.0, 1e3, "m^3", "displaced volume (buoyancy rho g V under water)")
+    cd_area: float = param(0.0, 0.0, 1e3, "m^2", "drag area Cd A (isotropic)")
+    ca: float = param(0.0, 0.0, 10.0, "", "added-mass coefficient on the volume")
+    name: str = param("", doc="a label")
+
+    def to_makeup(self):
+        from .makeup import PointLoad
+        return PointLoad(self.arc_length, self.mass, self.volume, self.cd_area, self.ca, self.name)
+
+
+@dataclass(frozen=True)
+class TetherFloats(Section):
+    """Floats spread over a range of the line, a float section (``[[tether.floats]]``)."""
+
+    PATH = "tether.floats"
+    start: float = param(0.0, 0.0, MAX_LENGTH, "m", "arc length from the ship end where the floats begin")
+    end: float = param(1.0, 0.0, MAX_LENGTH, "m", "arc length where they end (> start)")
+    volume_per_length: float = param(0.0, 0.0, 10.0, "m^3/m", "displaced volume of the floats per metre of line")
+    mass_per_length: float = param(0.0, 0.0, 1e4, "kg/m", "mass of the floats per metre of line")
+    cd_area_per_length: float = param(0.0, 0.0, 100.0, "m^2/m", "normal drag area Cd A of the floats per metre")
+    ca: float = param(0.0, 0.0, 10.0, "", "added-mass coefficient on the floats' volume")
+    name: str = param("", doc="a label")
+
+    def _check(self):
+        if not self.end > self.start:
+            self._bad("end", f"must be > start ({self.start:g} m)")
+
+    def to_makeup(self):
+        from .makeup import DistributedBuoyancy
+        return DistributedBuoyancy(self.start, self.end, self.volume_per_length, self.mass_per_length,
+                                   self.cd_area_per_length, self.ca, self.name)
+
+
 @dataclass(frozen=True)
 class Tether(Section):
     PATH = "tether"
@@ -162,9 +247,48 @@ class Tether(Section):
                            + ", ".join(LINE_TYPES) + "): sets diameter, mass_per_length, EA, EI and the "
                            "coefficients, which are then not given here", choices=("",) + tuple(LINE_TYPES))
 
+    sections: tuple = tables(TetherSection, "A line make-up: sections of different line types joined end to end, "
+                             "listed from the ship end. With sections, tether.length and tether.segments are "
+                             "their sums and the uniform keys above (diameter, mass, EA, coefficients, line_type) "
+                             "are not used; the winch must be fixed (payout of a make-up is not supported yet).")
+    point_loads: tuple = tables(TetherPointLoad, "Clump weights and buoyancy modules at an arc length from the ship "
+                                "end, on a make-up or on a uniform tether (lumped on the two nearest nodes by the "
+                                "lever rule; the winch must be fixed).")
+    floats: tuple = tables(TetherFloats, "Float sections: buoyancy spread over a range of arc length (a lazy wave's "
+                           "hog bend); the winch must be fixed.")
+
     _FROM_TYPE = ("diameter", "mass_per_length", "EA", "EI", "cd_normal", "cd_tangential", "ca_normal")
 
+    @property
+    def is_makeup(self) -> bool:
+        """Whether the tether is a line make-up (sections, point loads or floats), not one uniform cable."""
+        return bool(self.sections or self.point_loads or self.floats)
+
     def _check(self):
+        if self.sections and self.line_type:
+            self._bad("line_type", "not used with [[tether.sections]]: give each section its line_type")
+        if self.sections:
+            L = math.fsum(x.length for x in self.sections)
+            n = sum(x.segments for x in self.sections)
+            for name, total in (("length", L), ("segments", n)):
+                have = getattr(self, name)
+                if have != _default(type(self), name) and abs(have - total) > 1e-9 * max(total, 1.0):
+                    self._bad(name, f"the sections add up to {total:g}; leave it out or give their sum")
+            if n > MAX_SEGMENTS:
+                self._bad("segments", f"the sections have {n} elements in all; at most {MAX_SEGMENTS}")
+            object.__setattr__(self, "length", L)
+            object.__setattr__(self, "segments", n)
+            mbls = [x.mbl for x in self.sections if x.mbl > 0]
+            if self.rated_load == INF and len(mbls) == len(self.sections):
+                object.__setattr__(self, "rated_load", float(min(mbls)))
+        for i, p in enumerate(self.point_loads):
+            if p.arc_length > self.length * (1 + 1e-12):
+                raise ConfigError(f"tether.point_loads[{i}].arc_length = {p.arc_length:g}: must be in [0, "
+                                  f"{self.length:g}] m (the tether's length)", f"tether.point_loads[{i}].arc_length")
+        for i, p in enumerate(self.floats):
+            if p.end > self.length * (1 + 1e-12):
+                raise ConfigError(f"tether.floats[{i}].end = {p.end:g}: must be <= {self.length:g} m (the tether's "
+                                  "length)", f"tether.floats[{i}].end")
         if not self.line_type:
             return
         lt = LINE_TYPES[self.line_type]
@@ -304,6 +428,9 @@ class Scenario(Section):
             bad("ship.position", list(self.ship.position), f"the seabed there is at z = "
                 f"{w.seabed_z(*self.ship.position):.2f} m, above the surface or within 1 m of it")
         wi = self.winch
+        if self.tether.is_makeup and wi.mode != "fixed":
+            bad("winch.mode", repr(wi.mode), "a tether with sections, point_loads or floats (a line make-up) needs "
+                "winch.mode = \"fixed\": payout of a make-up is not supported yet")
         hi = wi.max_length if wi.max_length > 0 else (L if wi.mode == "fixed" else 2 * L)
         if not wi.min_length <= L <= hi:
             bad("tether.length", L, f"must be in [winch.min_length, winch.max_length] = [{wi.min_length:g}, {hi:g}] m")
