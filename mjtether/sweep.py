@@ -432,7 +432,7 @@ class _RunProbe:
 
     def end(self, runner) -> None:
         x = runner.bt.nodes(runner.sim.data)
-        on = x[:, 2] < runner.seabed_z(x[:, 0], x[:, 1]) + runner.tether_spec.diameter
+        on = x[:, 2] < runner.seabed_z(x[:, 0], x[:, 1]) + runner.end_diameter
         lying = on[1:] & on[:-1]
         if lying.any():
             self.touchdown_end = float(runner.bt.rest_lengths[runner.bt.first:][:int(np.argmax(lying))].sum())
