@@ -60,12 +60,20 @@ on the ship or robot) by a stiff ``connect`` equality whose force is the force o
 that support. The end nodes get armature up to an interior node's inertia (it sits at a
 support and weighs nothing) so that their constraints are as well conditioned as the rest.
 
-Added mass: the normal added mass C_a rho A l of each element is lumped on its nodes as
-armature of the three slide joints, which MuJoCo integrates implicitly. Armature is
-isotropic, so the nodes also carry it along the cable, where a slender cylinder has none; we
-tried removing that part with a force lagged by one step and it made the axial tension
-noisy (5 % swings in a static catenary), so the isotropic form stays. It changes axial
-(surge) inertia only, not statics or the transverse dynamics that drag and tension set.
+Added mass: the normal added mass C_a rho A l of each element is lumped on its nodes. By default
+(``added_mass="isotropic"``) it is armature of the three slide joints, which MuJoCo integrates
+implicitly: isotropic, so the nodes also carry it along the cable, where a slender cylinder has
+none. With ``added_mass="normal"`` it acts normal to the cable only: each node has two fixed tendons
+whose joint coefficients are two unit vectors normal to the cable there, and whose armature is
+the node's added mass, so MuJoCo's mass matrix holds m I + m_a (I - t t^T), integrated
+implicitly. ``BoundTether`` turns the two directions with the cable after every force
+computation (they lag the shape by one step). An isotropic armature (all three slide joints)
+would add m_a to the axial inertia too: on the flexible jumper of Lowe and Langley (2006),
+whose fairlead moves 10 m at 27 s, that overstated the tension swing by half
+(``scripts/reproduce_lowe_langley2006.py``: 0.1-0.2 kN RMS from the paper with "normal").
+"normal" is not the default yet: with it, the slack switching lets a pushed element push (0.16
+W in ``test_pushed_elements_carry_no_force``) and a touchdown spike (1.49 T0 in
+``test_lowering_onto_the_seabed_has_no_tension_spike``).
 """
 
 from __future__ import annotations
@@ -79,7 +87,7 @@ import numpy as np
 from . import _checks, dispatch
 from .analytic import sagged_polyline
 from .makeup import LineMakeup
-from .tether import TetherSpec
+from .tether import ADDED_MASS, TetherSpec
 from .water import WaterColumn
 
 MIN_IMP, MAX_IMP = 1e-4, 0.9999  # MuJoCo's mjMINIMP, mjMAXIMP
@@ -261,6 +269,7 @@ class TetherModel:
     seabed_friction: float | None = None  # Coulomb coefficient on the seabed; None: no contact
     makeup: LineMakeup | None = None  # the sections and point loads, for a non-uniform line
     userdata_adr: int = -1  # where the nodes' stick points (3 per node) start in MuJoCo's userdata
+    added_mass: str = "isotropic"  # or "normal": see add_tether
 
     @property
     def flex(self) -> str:
@@ -271,6 +280,11 @@ class TetherModel:
 
     def drum_connect(self, i: int) -> str:
         return f"{self.name}/drum{i}"
+
+    def normal_tendon(self, i: int, k: int) -> str:
+        """The fixed tendon that carries node ``i``'s normal added mass along its ``k``-th (0, 1)
+        normal direction (see ``add_tether``)."""
+        return f"{self.name}/node{i}/normal{k}"
 
 
 def anchor_position(spec: mujoco.MjSpec, anchor: Anchor) -> np.ndarray | None:
@@ -327,6 +341,7 @@ def add_tether(
     seabed_damping: float = 0.0,
     max_length: float | None = None,
     end_at=None,
+    added_mass: str | None = None,
 ) -> TetherModel:
     """Add ``tether`` to ``spec`` between ``start`` (the ship end, where its drum is) and ``end``.
 
@@ -350,6 +365,8 @@ def add_tether(
         end_at: where the end support will be when the simulation starts (m, world), if not
             where ``spec`` puts it (e.g. a robot whose joints are set to a standing pose after
             compiling); the last node is placed there.
+        added_mass: ``"isotropic"`` or ``"normal"`` (see ``TetherSpec.added_mass`` and the module
+            docstring); default: the tether's (``"isotropic"`` for a line make-up).
     """
     if seabed_friction is not None:
         _checks.non_negative("seabed_friction", seabed_friction)
@@ -362,6 +379,10 @@ def add_tether(
             raise ValueError("nodes: give the start shape of a line make-up (e.g. steady_state(makeup, ...).nodes)")
     if not isinstance(tether, TetherSpec):
         raise ValueError(f"tether must be a TetherSpec or a LineMakeup, got {type(tether).__name__}")
+    if added_mass is None:
+        added_mass = tether.added_mass if makeup is None else "isotropic"
+    if added_mass not in ADDED_MASS:
+        raise ValueError(f"added_mass must be one of {', '.join(ADDED_MASS)}, got {added_mass!r}")
     for label, a in (("start", start), ("end", end)):
         if not isinstance(a, (FixedPoint, BodyPoint, SitePoint, FreeEnd)):
             raise ValueError(f"{label} must be FixedPoint, BodyPoint, SitePoint or FreeEnd, got {a!r}")
@@ -446,11 +467,19 @@ def add_tether(
         e = spec.add_equality(name=f"{name}/element{j}", type=mujoco.mjtEq.mjEQ_TENDON,
                               name1=f"{name}/element{j}")
         e.active = j >= first
+    # normal added mass: two fixed tendons per node, along two directions normal to the cable,
+    # whose armature BoundTether sets to the node's added mass and whose joint coefficients it
+    # turns with the cable (a slender cylinder has no added mass along its axis)
+    for i in range(n + 1 if added_mass == "normal" else 0):
+        for k in range(2):
+            t = spec.add_tendon(name=f"{name}/node{i}/normal{k}")
+            for axis, c in zip("xyz", np.eye(3)[k]):
+                t.wrap_joint(f"{body_names[i]}/{axis}", float(c))
 
     tm = TetherModel(name=name, spec=tether, start=start, end=end, node_bodies=body_names, n=n, first=first,
                      nominal_length=l0, initial_nodes=all_nodes,
                      max_length=float(max(L, max_length or 0.0)), seabed_friction=seabed_friction,
-                     makeup=makeup)
+                     makeup=makeup, added_mass=added_mass)
     if seabed_friction is not None:  # the nodes' stick points on the seabed (see mjtether.seabed)
         tm.userdata_adr = spec.nuserdata
         spec.nuserdata += 3 * (n + 1)

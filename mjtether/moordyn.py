@@ -10,7 +10,7 @@ between a ship's fairlead and a robot end, so a file maps onto a scenario when i
   the other the anchored robot end (``robot.type = "anchor"``);
 * line type columns Diam, Mass/m, EA, BA/-zeta, EI, Cd, Ca, CdAx, CaAx (+ Cl, dF, cF = 0):
   ``tether.diameter``, ``mass_per_length``, ``EA``, ``EI``, ``cd_normal``, ``ca_normal``,
-  ``cd_tangential``;
+  ``cd_tangential``, and CaAx = Ca or 0 as ``tether.added_mass`` "isotropic" or "normal";
 * options WtrDpth, rho/rhoW, g, kBot, cBot, FrictionCoefficient, dtM: ``water.depth``,
   ``water.density.rho``, ``water.gravity``, ``water.seabed_stiffness`` and ``seabed_damping``,
   ``tether.seabed_friction`` (0 when not given, as in MoorDyn), ``simulation.timestep`` (dtM
@@ -21,8 +21,8 @@ Refused, with the line of the file named: more than one line; free points (clump
 floats), bodies and rods; a BA in N s (mjtether's axial damping is a fraction of critical:
 give a negative BA); VIV (Cl != 0); waves, currents and seafloor files; a static/dynamic
 friction ratio other than 1 (mjtether's seabed friction is one coefficient). Approximated,
-with a warning naming the line: CaAx (mjtether's added mass acts in every direction with Ca)
-and BA/-zeta (mjtether damps each element's stretch critically). Read and not needed: the
+with a warning naming the line: CaAx other than Ca or 0 (mjtether's added mass along the line
+is all of Ca, ``tether.added_mass = "isotropic"``, or none, ``"normal"``) and BA/-zeta (mjtether damps each element's stretch critically). Read and not needed: the
 options of MoorDyn's own integrator and initial-condition solver (tScheme, CFL, dtIC, TmaxIC,
 CdScaleIC, threshIC, ICgenDynamic), FricDamp (mjtether's friction sticks exactly: the
 limit FricDamp -> infinity), and the output options and OUTPUTS section (mjtether's outputs
@@ -140,11 +140,15 @@ def to_dict(text: str, name: str = "<moordyn>") -> dict:
         if BA < 0 and BA != -1.0:
             warnings.warn(f"{name}: line {no}: BA/-zeta = {BA:g}: mjtether damps each element's stretch critically "
                           "(zeta = 1)", MoorDynWarning, stacklevel=3)
-        if caax != ca:
-            warnings.warn(f"{name}: line {no}: CaAx = {caax:g}: mjtether's added mass acts in every direction "
-                          f"with Ca = {ca:g}", MoorDynWarning, stacklevel=3)
+        # the added mass along the line: CaAx = Ca is mjtether's isotropic added mass, CaAx = 0 its
+        # "normal" one; anything else is the nearer of the two
+        added_mass = "normal" if caax < 0.5 * ca else "isotropic"
+        if caax not in (0.0, ca):
+            warnings.warn(f"{name}: line {no}: CaAx = {caax:g}: mjtether's added mass along the line is either Ca "
+                          f"({ca:g}) or 0; taking {'0' if added_mass == 'normal' else 'Ca'} (tether.added_mass = "
+                          f"\"{added_mass}\")", MoorDynWarning, stacklevel=3)
         types[f[0]] = {"diameter": diam, "mass_per_length": mass, "EA": EA, "EI": EI, "cd_normal": cd,
-                       "ca_normal": ca, "cd_tangential": cdax}
+                       "ca_normal": ca, "cd_tangential": cdax, "added_mass": added_mass}
 
     points = {}
     for no, f in _table(name, sec["POINTS"], "POINTS"):
@@ -264,7 +268,7 @@ def write(sc: Scenario) -> str:
         "TypeName   Diam    Mass/m    EA    BA/-zeta    EI    Cd    Ca    CdAx    CaAx",
         "(name)     (m)     (kg/m)    (N)   (N-s/-)    (N-m^2) (-)   (-)   (-)     (-)",
         f"tether {t.diameter!r} {mass!r} {t.EA!r} -1 {t.EI!r} {t.cd_normal!r} {t.ca_normal!r} {t.cd_tangential!r} "
-        f"{t.ca_normal!r}",
+        f"{t.ca_normal if t.added_mass == 'isotropic' else 0.0!r}",
         "---------------------- POINTS -------------------------------------------------",
         "ID   Attachment  X    Y    Z    Mass   Volume  CdA   Ca",
         "(#)  (word)      (m)  (m)  (m)  (kg)   (m^3)   (m^2) (-)",

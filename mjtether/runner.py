@@ -127,7 +127,8 @@ def tether_from(sc: Scenario) -> TetherSpec:
     return TetherSpec(length=t.length, segments=t.segments, diameter=t.diameter,
                       density=None if t.mass_per_length > 0 else t.density,
                       mass_per_length=t.mass_per_length or None, cd_normal=t.cd_normal,
-                      cd_tangential=t.cd_tangential, ca_normal=t.ca_normal, EA=t.EA or None, EI=t.EI)
+                      cd_tangential=t.cd_tangential, ca_normal=t.ca_normal, EA=t.EA or None, EI=t.EI,
+                      added_mass=t.added_mass)
 
 
 def makeup_from(sc: Scenario) -> LineMakeup | None:
@@ -269,7 +270,7 @@ class ScenarioRun:
                                      seabed_stiffness=sc.water.seabed_stiffness or None,
                                      seabed_damping=sc.water.seabed_damping,
                                      max_length=None if self.makeup is not None else self.winch.max_length,
-                                     end_at=robot if self.walker else None)
+                                     end_at=robot if self.walker else None, added_mass=sc.tether.added_mass)
         self.sim = Simulation(spec, self.water, tethers=[self.tm], bodies=bodies)
         try:
             if self.initial is not None:  # the steady state's seabed friction, carried into the run

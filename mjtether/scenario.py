@@ -241,6 +241,10 @@ class Tether(Section):
     EA: float = param(0.0, 0.0, 1e12, "N", "axial stiffness; 0: inextensible")
     EI: float = param(TetherSpec.EI, 0.0, 1e9, "N m^2", "bending stiffness")
     seabed_friction: float = param(0.5, 0.0, 5.0, "", "Coulomb friction of the tether on the seabed")
+    added_mass: str = param("isotropic", doc="isotropic: each node's added mass on all three axes (along the cable "
+                            "too); normal: normal to the cable only, as for a slender cylinder (reproduces the "
+                            "flexible jumper of Lowe and Langley 2006; not yet made safe with slack elements and "
+                            "touchdown)", choices=("isotropic", "normal"))
     rated_load: float = param(INF, 0.0, INF, "N", "breaking/rated load; a run stops above it (a line_type's MBL "
                               "when not given)")
     line_type: str = param("", doc="a line type of the library (mjtether/linetypes.toml: "

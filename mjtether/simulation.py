@@ -24,6 +24,7 @@ from .water import WaterColumn
 _EQUALITY = int(mujoco.mjtConstraint.mjCNSTR_EQUALITY)  # an int: comparing arrays with the enum is slow
 _BADQPOS, _BADQVEL, _BADQACC = (int(w) for w in (mujoco.mjtWarning.mjWARN_BADQPOS, mujoco.mjtWarning.mjWARN_BADQVEL,
                                                   mujoco.mjtWarning.mjWARN_BADQACC))
+_EX, _EZ = np.array([1.0, 0.0, 0.0]), np.array([0.0, 0.0, 1.0])
 MAX_NODE_SPEED = 1000.0
 """Tether node speed (m/s) taken as divergence: no cable in water moves at 1 km/s."""
 MAX_STRAIN = 1.0
@@ -83,6 +84,16 @@ class BoundTether:
         self.vertadr = int(model.flex_vertadr[fid])
         self.tadr = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_TENDON, tm.element_tendon(0))
         self._ten = slice(self.tadr, self.tadr + n)
+        # the normal added mass's tendons (two per node, see builder) and their joint coefficients
+        self._normal_ten = self._normal_prm = None  # (isotropic added mass: none)
+        if tm.added_mass == "normal":
+            nadr = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_TENDON, tm.normal_tendon(0, 0))
+            if nadr < 0 or not np.all(model.tendon_num[nadr:nadr + 2 * (n + 1)] == 3) or \
+                    not np.all(np.diff(model.tendon_adr[nadr:nadr + 2 * (n + 1)]) == 3):
+                raise RuntimeError("tether normal added-mass tendons missing or not contiguous")
+            self._normal_ten = slice(nadr, nadr + 2 * (n + 1))
+            w0 = int(model.tendon_adr[nadr])
+            self._normal_prm = model.wrap_prm[w0:w0 + 6 * (n + 1)].reshape(n + 1, 2, 3)  # a view
         self._row_cache: dict[int, slice] = {}
         self.eq0 = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_EQUALITY, tm.element_tendon(0))
         self._eqs = slice(self.eq0, self.eq0 + n)
@@ -176,6 +187,7 @@ class BoundTether:
         if self.makeup is not None:  # the point loads' added mass, at the start's depths
             self._node_added = self.makeup.node_added_volume * np.asarray(self.water.rho(np.minimum(z, 0.0)), float)
         self._update()
+        self._orient_added_mass(x[k:])
         # elements about as long as their rest length or longer start taut, clearly slack ones
         # slack (an element started taut that pushes is switched off at the first step)
         length = np.linalg.norm(np.diff(x, axis=0), axis=1)
@@ -200,23 +212,30 @@ class BoundTether:
         right = np.where(idx == k, c / max(rest[k], 1e-300), 0.5)
         added = left * a_left * r_left + right * a_right * r_right
         parked = idx < k
-        end = (idx == k) | (idx == n)  # at a support: armature up to an interior node's inertia
+        end = (idx == k) | (idx == n)  # at a support: inertia up to an interior node's
         if self.makeup is None:
             mass = self._mu * (left * r_left + right * r_right)
-            i_ref = self._i_ref = (self._mu + np.median(ap)) * l0  # an interior node's inertia
+            i_ref = self._i_ref = (self._mu + np.median(ap)) * l0  # an interior node's (normal) inertia
             mass = np.where(parked, self._mu * l0, mass)
-            arm = np.where(parked, i_ref - self._mu * l0, added)
-        else:  # per-element mass per length, and the point loads' masses and added masses
+            iso = np.zeros(n + 1)
+        else:  # per-element mass per length, and the point loads' masses and (isotropic) added masses
             mu = self._mu
             mass = left * np.r_[0.0, mu] * r_left + right * np.r_[mu, 0.0] * r_right + self.makeup.node_mass
-            added = added + self._node_added
-            i_ref = self._i_ref = float(np.median(mass + added))
-            arm = added
-        arm = np.where(end & ~parked, np.maximum(i_ref - mass, added), arm)
-        arm = np.maximum(arm, 1e-9 * i_ref)
+            iso = self._node_added.copy()
+            i_ref = self._i_ref = float(np.median(mass + added + iso))
+        # the line's added mass acts normal to it (the normal tendons); the isotropic armature
+        # holds the point loads' added mass, a parked node's inertia and a support's conditioning
+        normal = np.where(parked, 0.0, added)
+        iso = np.where(parked, i_ref - mass, iso)
+        iso = np.where(end & ~parked, np.maximum(i_ref - mass - normal, iso), iso)
+        if self._normal_ten is None:  # isotropic added mass: all of it on the slide joints
+            iso = iso + normal
+        iso = np.maximum(iso, 1e-9 * i_ref)
         m.body_mass[self._bids] = mass
-        m.dof_armature[self._dof0:self._dof0 + 3 * (n + 1)] = np.repeat(arm, 3)
-        self._inertia = mass + arm
+        m.dof_armature[self._dof0:self._dof0 + 3 * (n + 1)] = np.repeat(iso, 3)
+        if self._normal_ten is not None:
+            m.tendon_armature[self._normal_ten] = np.repeat(normal, 2)
+        self._inertia = mass + iso  # along the cable (what its axial mode moves)
         # elements: inverse mass along the element, solver parameters, rest lengths
         js = np.arange(n)
         inv = 1.0 / self._inertia[:-1] + 1.0 / self._inertia[1:]
@@ -238,6 +257,7 @@ class BoundTether:
         them, in scalar arithmetic (this runs at every step of a paying-out winch)."""
         m, k, n, l0, mu = self.model, self.first, self.n, self.l0, self._mu
         body_mass, armature, invweight = m.body_mass, m.dof_armature, m.tendon_invweight0
+        ten_armature, nten = m.tendon_armature, (None if self._normal_ten is None else self._normal_ten.start)
         eq_solref, eq_solimp = m.eq_solref, m.eq_solimp
         s = self.drum_rest
         self._rest[k] = s  # (_deployed_rest is a view of it)
@@ -249,12 +269,16 @@ class BoundTether:
         for i, mass, add in ((k, mu * c, float(ap[k]) * c),
                              (k + 1, mu * ((s - c) + 0.5 * right),
                               float(ap[k]) * (s - c) + (0.5 * float(ap[k + 1]) * right if k + 1 < n else 0.0))):
-            arm = max(i_ref - mass, add) if i == k or i == n else add
-            arm = max(arm, 1e-9 * i_ref)
+            iso = max(i_ref - mass - add, 0.0) if i == k or i == n else 0.0
+            if nten is None:  # isotropic added mass
+                iso += add
+            else:
+                ten_armature[nten + 2 * i:nten + 2 * i + 2] = add
+            iso = max(iso, 1e-9 * i_ref)
             body_mass[self._bids[i]] = mass
             dof = self._dof0 + 3 * i
-            armature[dof:dof + 3] = arm
-            inertia[i] = mass + arm
+            armature[dof:dof + 3] = iso
+            inertia[i] = mass + iso
         dt, zeta, EA = m.opt.timestep, self.spec.axial_damping_ratio, self.spec.EA
         for j in range(k, min(k + 2, n)):
             inv = 1.0 / float(inertia[j]) + 1.0 / float(inertia[j + 1])
@@ -556,6 +580,36 @@ class BoundTether:
     def apply(self, model: mujoco.MjModel, data: mujoco.MjData) -> None:
         f = self.loads(data)
         data.qfrc_passive[self._dof0 + 3 * self.first:self._dof0 + 3 * (self.n + 1)] += f.ravel()
+        if self._normal_prm is not None:
+            self._orient_added_mass(data.flexvert_xpos[self.vertadr + self.first:self.vertadr + self.n + 1])
+
+    def _orient_added_mass(self, x: np.ndarray) -> None:
+        """Turn the deployed nodes' normal added-mass tendons normal to the cable at ``x`` (the
+        deployed nodes, m): at each node two unit vectors normal to its tangent (the mean of its
+        elements' directions). MuJoCo uses them from the next mass matrix on."""
+        if self._normal_prm is None or len(x) < 2:
+            return
+        e = x[1:] - x[:-1]
+        e /= np.maximum(np.sqrt(np.einsum("ij,ij->i", e, e)), 1e-300)[:, None]
+        t = np.empty_like(x)
+        t[0], t[-1] = e[0], e[-1]
+        np.add(e[:-1], e[1:], out=t[1:-1])
+        norm = np.sqrt(np.einsum("ij,ij->i", t, t))
+        # a node without a direction (an element of zero length, a cable folded back on itself)
+        # keeps its last one
+        ok = norm > 1e-6
+        t = t[ok] / norm[ok, None]
+        # first normal: horizontal (z x t), or along x x t where the cable is near vertical
+        a = np.where((np.abs(t[:, 2]) < 0.9)[:, None], _EZ, _EX)
+        n1 = np.cross(a, t)
+        n1 /= np.sqrt(np.einsum("ij,ij->i", n1, n1))[:, None]
+        prm = self._normal_prm[self.first:]
+        if ok.all():
+            prm[:, 0] = n1
+            prm[:, 1] = np.cross(t, n1)
+        else:
+            prm[ok, 0] = n1
+            prm[ok, 1] = np.cross(t, n1)
 
     def set_state(self, data: mujoco.MjData, nodes=None, velocity=None) -> None:
         """Set the deployed nodes' positions (m) and/or velocities (m/s), world frame, shape

@@ -21,6 +21,10 @@ MAX_SEGMENTS = 5000
 and step, and MuJoCo's arena runs out in the tens of thousands)."""
 
 
+ADDED_MASS = ("isotropic", "normal")
+"""How a node carries its added mass: on all three axes, or normal to the cable only."""
+
+
 @dataclass(frozen=True)
 class TetherSpec:
     """A uniform tether.
@@ -39,6 +43,10 @@ class TetherSpec:
         EI: bending stiffness (N m^2); 0 for a perfectly flexible cable.
         axial_damping_ratio: damping ratio of the axial (stretch) mode of one element, as the
             internal damping MoorDyn calls BA expressed relative to critical.
+        added_mass: ``"isotropic"`` (default): each node's added mass C_a rho A l on all three
+            axes, along the cable too, where a slender cylinder has none; ``"normal"``: normal to
+            the cable only (see ``mjtether.builder``), which reproduces the flexible jumper of Lowe
+            and Langley (2006) but is not yet made safe with slack elements and touchdown.
     """
 
     length: float
@@ -52,6 +60,7 @@ class TetherSpec:
     EA: float | None = None
     EI: float = 0.0
     axial_damping_ratio: float = 1.0
+    added_mass: str = "isotropic"
 
     def __post_init__(self):
         _checks.in_range("tether.length", self.length, 1e-3, MAX_LENGTH, "m")
@@ -72,6 +81,8 @@ class TetherSpec:
             _checks.positive("tether.EA", self.EA, "N")
         _checks.non_negative("tether.EI", self.EI, "N m^2")
         _checks.in_range("tether.axial_damping_ratio", self.axial_damping_ratio, 0.0, 10.0)
+        if self.added_mass not in ADDED_MASS:
+            raise ValueError(f"tether.added_mass must be one of {', '.join(ADDED_MASS)}, got {self.added_mass!r}")
 
     @property
     def area(self) -> float:

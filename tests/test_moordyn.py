@@ -99,8 +99,21 @@ def test_round_trips():
 
 
 def test_approximations_warn_naming_the_line():
-    with pytest.warns(moordyn.MoorDynWarning, match=r"line 7: CaAx = 0.5: mjtether's added mass acts in every"):
+    with pytest.warns(moordyn.MoorDynWarning, match=r"line 7: CaAx = 0.5: mjtether's added mass along the line is"):
         moordyn.read(text=chain("0.5"), name="chain.txt")
+
+
+def test_axial_added_mass_maps_onto_added_mass_and_back():
+    """CaAx = 0 (a slender line: no added mass along it) is tether.added_mass = "normal", CaAx =
+    Ca the isotropic default; written back out, each gives its CaAx again."""
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # neither is an approximation
+        for caax, mode in (("0.0", "normal"), ("1.0", "isotropic")):
+            sc = moordyn.read(text=chain(caax), name="chain.txt")
+            assert sc.tether.added_mass == mode
+            assert moordyn.read(text=moordyn.write(sc), name="back.txt").tether.added_mass == mode
 
 
 REFUSED = {  # name: (edit of the chain file, what the error must contain)

@@ -18,10 +18,11 @@ from .steady import SteadyState, steady_state
 def dynamic_EA(tether: TetherSpec, water: WaterColumn, timestep: float) -> float:
     """Axial stiffness (N) of ``tether`` as the dynamic model builds it at ``timestep`` (s):
     the tether's EA if it has one, else the stiffness the solver gives an inextensible one."""
-    rho = float(water.rho([0.0])[0])
     l = tether.segment_length
-    m_eff = tether.mu * l + tether.ca_normal * rho * tether.area * l
-    return float(axial_params(tether.EA, l, 2.0 / m_eff, timestep, tether.axial_damping_ratio).effective_EA(l))
+    m_axial = tether.mu * l  # an interior node's inertia along the cable
+    if tether.added_mass == "isotropic":  # its added mass along the cable too (see builder)
+        m_axial += tether.ca_normal * float(water.rho([0.0])[0]) * tether.area * l
+    return float(axial_params(tether.EA, l, 2.0 / m_axial, timestep, tether.axial_damping_ratio).effective_EA(l))
 
 
 def initial_state(tether: TetherSpec, water: WaterColumn, top, bottom, *, timestep: float,
