@@ -176,8 +176,7 @@ A check of the cable's dynamics with bending stiffness against a published answe
 R. Langley, "Dynamic analysis of a flexible jumper", OMAE 2006 (Hamburg), with the inputs and
 the digitised curves that MoorDyn's test suite carries (M. Hall et al., MoorDyn v2,
 `tests/Mooring/lowe_and_langley_2006`). Made by `python scripts/reproduce_lowe_langley2006.py
---doc docs/lowe_langley2006.md` (time step {dt} s; {wall} s of computing); every number below
-comes from that run.
+--doc docs/lowe_langley2006.md` (time step {dt} s); every number below comes from that run.
 
 170 m of line (d 0.396 m, 165 kg/m, EA 500 MN, EI 120.8 kN m^2, Cd 1.0, Ca 1.0 normal, no axial
 drag or added mass) hangs in 68 elements from an anchor at (-100, 0, -55) m to a fairlead at

@@ -6,6 +6,7 @@ inputs, not against anything the reader computes.
 
 import math
 import warnings
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -117,12 +118,15 @@ def test_axial_added_mass_maps_onto_added_mass_and_back():
 
 
 REFUSED = {  # name: (edit of the chain file, what the error must contain)
-    "two lines": (("1     Chain       1        2        450        40       pt",
-                   "1     Chain       1        2        450        40       pt\n2     Chain       1        2        450        40       pt"),
-                  "line 17: mjtether runs one line per scenario; this file has 2"),
-    "a clump weight": (("2     Coupled    0       0     -9      0      0       0      0",
-                        "2     Free       0       0     -9      500    0       0      0"),
-                       "line 12: point 2 is 'Free': mjtether supports Fixed and Coupled"),
+    "two lines side by side": (("1     Chain       1        2        450        40       pt",
+                                "1     Chain       1        2        450        40       pt\n2     Chain       1        2        450        40       pt"),
+                               "line 11: point 1 (fixed) has 2 lines attached"),
+    "a free end": (("2     Coupled    0       0     -9      0      0       0      0",
+                    "2     Free       0       0     -9      500    0       0      0"),
+                   "line 12: point 2 (free) has 1 lines attached"),
+    "a body point": (("2     Coupled    0       0     -9      0      0       0      0",
+                      "2     Body1      0       0     -9      0      0       0      0"),
+                     "line 12: point 2 is 'Body1': mjtether supports Fixed, Coupled (Vessel) and Free points"),
     "damping in N s": (("Chain      0.1      150.0     1e8    -1 ", "Chain      0.1      150.0     1e8    2e5 "),
                        "line 7: BA = 200000 N s"),
     "VIV": (("1.0     1.0\n---------------------- POINTS", "1.0     1.0   0.8\n---------------------- POINTS"),
@@ -160,6 +164,89 @@ def test_what_moordyn_cannot_express_is_refused_when_writing():
     walker = load_scenario()
     with pytest.raises(ScenarioError, match="robot.type: 'walker'"):
         moordyn.write(walker)
+    lazy_wave = load_scenario(LAZY_WAVE, overrides=["water.current.speed=0.0"])
+    with pytest.raises(ScenarioError, match="tether.floats: float sections"):
+        moordyn.write(lazy_wave)
+    off_node = load_scenario(text=MAKEUP.replace("arc_length = 200.0", "arc_length = 202.0"))
+    with pytest.raises(ScenarioError, match=r"tether.point_loads\[1\].arc_length: 202 m, between nodes"):
+        moordyn.write(off_node)
+
+
+LAZY_WAVE = Path(__file__).resolve().parents[1] / "examples" / "lazy_wave_umbilical.toml"
+MAKEUP = """
+[water]
+depth = 100.0
+[tether]
+seabed_friction = 0.0
+[[tether.sections]]
+line_type = "steel_armoured_umbilical_17mm"
+length = 120.0
+segments = 24
+[[tether.sections]]
+line_type = "polyester_rope_24mm"
+length = 180.0
+segments = 36
+[[tether.point_loads]]
+arc_length = 120.0
+mass = 300.0
+volume = 0.05
+cd_area = 0.4
+ca = 1.0
+[[tether.point_loads]]
+arc_length = 200.0
+volume = 0.3
+cd_area = 0.5
+ca = 1.0
+[ship]
+fairlead_z = -2.0
+[winch]
+mode = "fixed"
+[robot]
+type = "anchor"
+position = [220.0, 0.0, -100.0]
+"""
+
+
+def test_a_make_up_round_trips_as_lines_joined_at_free_points():
+    """Two sections with a clump at their joint and a buoy within the second: written as three
+    lines (the second section cut at the buoy's node) joined at two free points carrying the
+    loads, and read back as the same line element by element and node by node (names, line-type
+    names and breaking loads, which MoorDyn files do not hold, aside)."""
+    from mjtether.runner import makeup_from
+
+    sc = load_scenario(text=MAKEUP)
+    text = moordyn.write(sc)
+    assert text.count(" Free ") == 2 and "\n3 type2 3 4 100.0 20 -" in text
+    a, b = makeup_from(sc), makeup_from(moordyn.read(text=text, name="back.txt"))
+    for attr in ("element_length", "element_diameter", "element_mass_per_length", "element_EA", "element_EI",
+                 "element_cd_normal", "element_cd_tangential", "element_ca_normal", "node_mass", "node_volume",
+                 "node_cd_area", "node_ca"):
+        np.testing.assert_array_equal(getattr(a, attr), getattr(b, attr), err_msg=attr)
+
+
+def test_a_moordyn_chain_with_a_free_clump_runs_from_its_steady_state():
+    """MoorDyn's chain split at a free point carrying a 2 t clump: it starts from the make-up's
+    quasi-static steady state, and 2 s on the fairlead force is still that state's within 1 %
+    (a start that holds; the make-up's dynamics against statics are in test_scenario_makeup)."""
+    text = chain().replace("1     Chain       1        2        450        40       pt",
+                           "1     Chain       1        3        200        20       pt\n"
+                           "2     Chain       3        2        250        20       pt").replace(
+        "2     Coupled    0       0     -9      0      0       0      0",
+        "2     Coupled    0       0     -9      0      0       0      0\n"
+        "3     Free       -250    0     -120    2000   0.1     0.5    1.0")
+    sc = moordyn.read(text=text, name="clump.txt", overrides=["simulation.duration=2.0"])
+    assert [s.length for s in sc.tether.sections] == [250.0, 200.0]  # from the fairlead down
+    assert sc.tether.point_loads[0].arc_length == 250.0 and sc.tether.point_loads[0].mass == 2000.0
+    r = ScenarioRun(sc)
+    try:
+        assert r.initial_note.startswith("quasi-static steady state")
+        f0 = np.array(r.initial.top_force)
+        for _ in range(int(round(2.0 / sc.simulation.timestep))):
+            r.step()
+        f = r.bt.end_force(r.sim.data, "start")
+    finally:
+        r.close()
+    assert np.linalg.norm(f - f0) <= 0.01 * np.linalg.norm(f0), (f, f0)
 
 
 def test_convert_writes_both_ways_and_never_over_a_file(tmp_path, capsys):
