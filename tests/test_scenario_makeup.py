@@ -21,15 +21,16 @@ COL = {name: k for k, (name, _, _) in enumerate(RECORD_FIELDS)}
 UMB = "steel_armoured_umbilical_17mm"
 
 
-def _by_hand():
-    """The example's line, water and ends, written out again from its numbers."""
+def _by_hand(heading_deg: float = 90.0):
+    """The example's line, water and ends, written out again from its numbers (the current
+    0.3 m/s towards ``heading_deg``)."""
     umb = lambda L, n: Section.from_line_type(UMB, L, n)  # noqa: E731
     line = LineMakeup([umb(120.0, 24), umb(60.0, 12), umb(120.0, 24)],
                       [DistributedBuoyancy(120.0, 180.0, 5.607e-3, mass_per_length=2.8035, cd_area_per_length=0.1),
                        PointLoad(240.0, mass=200.0, volume=0.02, cd_area=0.3)])
     r = float(line.element_diameter[-1]) / 2
     # the dynamic cable's axis rests one radius above the seabed: solve to that plane
-    water = mt.WaterColumn(depth=100.0 - r, current=mt.ConstantCurrent(0.3, heading=np.pi / 2))
+    water = mt.WaterColumn(depth=100.0 - r, current=mt.ConstantCurrent(0.3, heading=np.radians(heading_deg)))
     top, bottom = np.array([0.0, 0.0, -2.0]), np.array([200.0, 0.0, -100.0 + r])
     return line, water, top, bottom
 
@@ -45,13 +46,18 @@ def test_example_loads_as_the_make_up_it_describes():
     assert load_scenario(text=to_toml(sc)) == sc  # written out and read back
 
 
-def test_lazy_wave_scenario_starts_from_and_holds_its_steady_state():
-    """10 s at 5 ms from the steady state in a 0.3 m/s cross current. Tolerance 2 % on the
-    ship-end force against the quasi-static answer (the issue's; the dynamic model carries the
-    same loads on a finite-stiffness cable, measured 0.1 %), the tow end's horizontal pull within
-    2 %, the clump on the seabed."""
-    sc = load_scenario(EXAMPLE, overrides=["simulation.duration=10.0"])
-    line, water, top, bottom = _by_hand()
+@pytest.mark.parametrize("heading_deg, anchor_tol", [(90.0, 0.02), (180.0, 0.01)])
+def test_lazy_wave_scenario_starts_from_and_holds_its_steady_state(heading_deg, anchor_tol):
+    """10 s at 5 ms from the steady state, in the example's 0.3 m/s current across the line
+    (90 deg) and against it (180 deg). The ship-end force within 2 % of the quasi-static answer
+    (the issue's tolerance; the dynamic model carries the same loads on a finite-stiffness
+    cable: measured 0.013 % and 0.005 %). The anchor's horizontal pull within 2 % across the
+    current (measured 0.17 %; its direction differs by 2.6 deg: the frictionless laid part bows
+    in the cross flow, which the straight-laid statics does not) and 1 % along it (measured 0.3 %:
+    the laid part's tangential drag, 1.2 N, which the statics leaves out; before the clump's drag
+    at the touchdown was carried into the laid line, 4.2 %). The clump on the seabed."""
+    sc = load_scenario(EXAMPLE, overrides=["simulation.duration=10.0", f"water.current.heading_deg={heading_deg}"])
+    line, water, top, bottom = _by_hand(heading_deg)
     ss = steady_state(line, water, top, bottom, seabed=True)
     rows, hist, info = run(sc, keep_nodes=True)
     assert info["initial_state"].startswith("quasi-static steady state")
@@ -59,7 +65,7 @@ def test_lazy_wave_scenario_starts_from_and_holds_its_steady_state():
     fs = rows[late][:, [COL["ship_force_x"], COL["ship_force_y"], COL["ship_force_z"]]].mean(axis=0)
     fe = rows[late][:, [COL["tow_force_x"], COL["tow_force_y"], COL["tow_force_z"]]].mean(axis=0)
     assert np.linalg.norm(fs - ss.top_force) <= 0.02 * np.linalg.norm(ss.top_force), (fs, ss.top_force)
-    assert np.hypot(*fe[:2]) == pytest.approx(np.hypot(*ss.bottom_force[:2]), rel=0.02)
+    assert np.hypot(*fe[:2]) == pytest.approx(np.hypot(*ss.bottom_force[:2]), rel=anchor_tol)
     clump = hist["nodes"][-1, 48]  # node at 240 m: 24 + 12 + 12 elements of 5 m
     assert clump[2] <= -100.0 + 2 * float(line.element_diameter[-1])
     assert np.all(hist["tension"] >= 0.0)

@@ -82,7 +82,8 @@ load on node 0 is counted in the top force. What is supported for a make-up:
 * the bottom end on the seabed with a straight-laid part: the touchdown is the first element
   after the last buoyant part (a buoyant element or a net buoyant point load, which cannot lie on
   the seabed) where P_z turns from negative to >= 0, inside the element or on a node whose point
-  load (a clump holding the touchdown) turns it; the laid part's tension falls by cb w per metre
+  load (a clump holding the touchdown) turns it (the seabed carries that load's weight; its
+  drag goes on into the laid part); the laid part's tension falls by cb w per metre
   with each element's own w and by cb W at each laid clump of wet weight W, never below zero
   (the rest lies unstretched, at zero tension);
 * the top end on the seabed too (within 1 mm), e.g. one half of a symmetric U between two
@@ -460,6 +461,9 @@ def _lay_makeup(cable: _Cable, X, T, P, G, k, seabed_z, cb):
     x_td = X[k] + phi * (X[k + 1] - X[k])
     s_td = float(cable.s_node[k] + phi * cable.l_e[k])
     p_td = P[k] - phi * f
+    if phi >= 1.0:  # touchdown on node k + 1: the seabed carries its point load's vertical part, and
+        # the horizontal part (a clump's drag) goes on into the laid line
+        p_td = p_td - np.array([G[k + 1][0], G[k + 1][1], 0.0])
     H = math.hypot(p_td[0], p_td[1])
     e = np.array([p_td[0], p_td[1], 0.0]) / max(H, 1e-300)
     LB = max(cable.L - s_td, 0.0)
