@@ -233,6 +233,17 @@ def table_lists(cls) -> dict[str, type]:
     return {f.name: f.metadata["tables"] for f in fields(cls) if "tables" in f.metadata}
 
 
+def split_index(part: str) -> tuple[str, int | None]:
+    """``"floats[1]"`` -> ("floats", 1); ``"water"`` -> ("water", None): a key path's part that
+    names one table of an array of tables (``tether.floats[1].start``)."""
+    name, sep, rest = part.partition("[")
+    if not sep:
+        return part, None
+    if not rest.endswith("]") or not rest[:-1].isdigit():
+        raise ConfigError(f"{part!r}: an index is a whole number in brackets, e.g. floats[0]", part)
+    return name, int(rest[:-1])
+
+
 def build(cls, raw, where: str = ""):
     """A ``cls`` section from ``raw``, a nested dict as TOML gives it: unknown keys and knots
     aliases handled here, values checked by the section itself. ``where`` prefixes errors

@@ -20,8 +20,8 @@ import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 
-from .config import (INF, RENAMED, ConfigError, Section, build, param, section, subsections, tables,
-                     unknown_key_message)
+from .config import (INF, RENAMED, ConfigError, Section, build, param, section, split_index, subsections,
+                     table_lists, tables, unknown_key_message)
 from .tether import MAX_LENGTH, MAX_SEGMENTS, TetherSpec
 from .makeup import load_line_types
 from .walker import Tripod
@@ -536,7 +536,22 @@ def _override(raw: dict, item: str) -> None:
         v = value.strip()  # a bare word: a string (e.g. simulation.start=settle)
     *sections, leaf = [p.strip() for p in key.split(".")]
     node, cls = raw, Scenario
-    for i, s in enumerate(sections):
+    for i, part in enumerate(sections):
+        try:
+            s, index = split_index(part)
+        except ConfigError as exc:
+            raise ScenarioError(f"--set {key}: {exc}", key) from None
+        if index is not None:  # one table of an array of tables: tether.floats[0].start
+            lists = table_lists(cls)
+            if s not in lists:
+                raise ScenarioError(f"--set {key}: {unknown_key_message(cls, s)}", key)
+            items = node.get(s, [])
+            if not isinstance(items, list) or index >= len(items):
+                n = len(items) if isinstance(items, list) else 0
+                raise ScenarioError(f"--set {key}: the scenario has {n} [[{lists[s].PATH}]] table(s), numbered "
+                                    f"from 0; {part} is not one of them", key)
+            node, cls = items[index], lists[s]
+            continue
         subs = subsections(cls)
         if s not in subs:
             raise ScenarioError(f"--set {key}: {unknown_key_message(cls, s)}", key)

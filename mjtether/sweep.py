@@ -91,7 +91,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .config import ConfigError, Param, params, subsections, unknown_key_message
+from .config import ConfigError, Param, params, split_index, subsections, table_lists, unknown_key_message
 from .outdir import terminate_as_exit
 from .scenario import Scenario, load_scenario
 from .units import KNOT
@@ -234,8 +234,12 @@ def _resolve(key: str, where: str) -> tuple[str, Param]:
     if any(not p for p in parts):
         raise SweepError(f"{where}: {key!r} is not a key path (e.g. tether.length)")
     cls = Scenario
-    for s in parts[:-1]:
-        subs = subsections(cls)
+    for part in parts[:-1]:
+        try:
+            s, index = split_index(part)
+        except ConfigError as exc:
+            raise SweepError(f"{where}: {exc}") from None
+        subs = table_lists(cls) if index is not None else subsections(cls)  # (tether.floats[0].start)
         if s not in subs:
             raise SweepError(f"{where}: {unknown_key_message(cls, s)}")
         cls = subs[s]

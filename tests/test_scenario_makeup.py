@@ -5,6 +5,7 @@ objects built by hand from the example's numbers (not through the scenario code 
 the solver itself is checked against catenaries and MoorPy in ``test_steady_sections``.
 """
 
+import re
 from pathlib import Path
 
 import numpy as np
@@ -114,3 +115,22 @@ def test_truncated_make_up_keeps_element_lengths_and_refuses_cut_loads():
     assert np.allclose(short.element_length, 5.0)
     with pytest.raises(ValueError, match="clump|point load"):
         line.truncated(230.0)  # the clump at 240 m would be cut off
+
+
+def test_set_and_sweep_reach_one_table_of_an_array_by_its_index(tmp_path):
+    """``--set tether.floats[0].start=110`` (and a sweep's ``--vary``) changes that table's key;
+    an index past the last table, a misspelt list or a bad index is refused by name."""
+    from mjtether.sweep import SweepError, _resolve
+
+    sc = load_scenario(EXAMPLE, overrides=["tether.floats[0].start=110.0", "tether.sections[1].segments=14"])
+    assert sc.tether.floats[0].start == 110.0 and sc.tether.sections[1].segments == 14 and sc.tether.segments == 62
+    for bad, words in (("tether.floats[3].start=1", "has 1 [[tether.floats]] table(s)"),
+                       ("tether.flots[0].start=1", "did you mean floats?"),
+                       ("tether.floats[x].start=1", "an index is a whole number in brackets"),
+                       ("tether.floats[0].strat=1", "did you mean start?")):
+        with pytest.raises(ScenarioError, match=re.escape(words)):
+            load_scenario(EXAMPLE, overrides=[bad])
+    path, param = _resolve("tether.floats[0].start", "--vary")
+    assert path == "tether.floats[0].start" and param.unit == "m"
+    with pytest.raises(SweepError, match="did you mean floats"):
+        _resolve("tether.flots[0].start", "--vary")
