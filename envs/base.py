@@ -139,7 +139,7 @@ def kwargs_table(cls) -> str:
     line = "  ".join("=" * n for n in w)
     head = "  ".join(h.ljust(n) for h, n in zip(("keyword", "default", "allowed", "meaning"), w))
     body = ["  ".join(c.ljust(n) for c, n in zip(r, w)).rstrip() for r in rows]
-    extra = ("Also ``render_mode`` (None, \"rgb_array\" or \"human\"), ``camera_name``, ``camera_id`` and "
+    extra = ("Also ``render_mode`` (None, \"rgb_array\", \"depth_array\" or \"human\"), ``camera_name``, ``camera_id`` and "
              "``default_camera_config``: see ``TetherEnv``.")
     return "\n".join(["", "Keyword arguments (checked in the constructor):", "", line, head, line, *body, line, "",
                       extra, ""])
@@ -169,7 +169,10 @@ class TetherEnv(gym.Env):
       uint8, drawn offscreen by ``mjtether.render``: no display needed) or ``"human"`` (a window,
       MuJoCo's passive viewer, updated on every ``reset`` and ``step`` and paced to real time;
       without a display, DISPLAY or WAYLAND_DISPLAY, the constructor raises
-      ``mjtether.render.RenderUnavailable``, a RuntimeError). No ``"depth_array"``.
+      ``mjtether.render.RenderUnavailable``, a RuntimeError), or ``"depth_array"`` (``render()``
+      returns (height, width) float32, the distance in m from the camera along its viewing axis
+      to the first surface, as Gymnasium's MuJoCo environments give it; the physical objects
+      only: no water surface, current arrows or goal marker).
     * ``default_camera_config``: {"camera": "track" | "side" | "top" | "walker", "tension_scale":
       N}: the renderer's view (see ``mjtether.render``) and the top of the tether's tension
       colour scale (default: the rated load). Other keys are refused (Gymnasium's free-camera
@@ -190,7 +193,7 @@ class TetherEnv(gym.Env):
     draws the same episode as the original's next ``reset()`` would.
     """
 
-    metadata = {"render_modes": ["human", "rgb_array"], "render_fps": 10}
+    metadata = {"render_modes": ["human", "rgb_array", "depth_array"], "render_fps": 10}
     Config = TetherEnvConfig
 
     def __init__(self, *, render_mode: str | None = None, default_camera_config: dict | None = None,
@@ -338,6 +341,8 @@ class TetherEnv(gym.Env):
                                      camera=self._view,
                                      tension_scale=self.camera_config.get("tension_scale", self.rated_load))
             self._renderer = FrameRenderer(self.runner, settings, fixed_camera=self._model_camera)
+        if self.render_mode == "depth_array":
+            return self._renderer.render_depth().copy()
         self._renderer.markers = self.render_markers()
         # (the renderer returns a view of its own buffer, which the next frame overwrites)
         return self._renderer.render().copy()

@@ -246,6 +246,7 @@ class FrameRenderer:
         self.cam = mujoco.MjvCamera()
         self.viewport = mujoco.MjrRect(0, 0, s.width, s.height)
         self._rgb = np.zeros((s.height, s.width, 3), dtype=np.uint8)
+        self._depth = None  # (height, width) float32, for render_depth
         self._background = (np.array(WATER_RGB) * 255).astype(np.uint8)
         self.scale = s.tension_scale or self._default_scale()
         self.legend = f"tether tension colour scale: 0 N (blue) to {self.scale:g} N (red), turbo"
@@ -356,8 +357,9 @@ class FrameRenderer:
         mujoco.mjr_overlay(mujoco.mjtFont.mjFONT_NORMAL, mujoco.mjtGridPos.mjGRID_BOTTOMLEFT,
                            mujoco.MjrRect(8, 8 + bar_h, w, h), f"0 - {self.scale:g} N", "", self.ctx)
 
-    def render(self) -> np.ndarray:
-        """Render the simulation's current state; returns the frame (height, width, 3) uint8."""
+    def _draw(self, decorations: bool = True) -> None:
+        """Draw the simulation's current state into the offscreen buffer; ``decorations``: the
+        water surface, current arrows and markers too (not physical objects)."""
         r = self.runner
         m, d = r.sim.model, r.sim.data
         x = r.bt.nodes(d)
@@ -365,13 +367,34 @@ class FrameRenderer:
         mujoco.mjv_updateScene(m, d, self.opt, None, self.cam, mujoco.mjtCatBit.mjCAT_ALL, self.scene)
         width = max(r.end_diameter / 2, 0.0025 * view)
         self._add_tether(x, r.bt.tension(d), width)
-        self._add_water_and_current(x, view)
-        self._add_markers()
+        if decorations:
+            self._add_water_and_current(x, view)
+            self._add_markers()
         # underwater haze: fog in the water's colour from about the viewing distance on
         m.vis.map.fogstart = 1.0 * view / m.stat.extent
         m.vis.map.fogend = 4.0 * view / m.stat.extent
         mujoco.mjr_setBuffer(mujoco.mjtFramebuffer.mjFB_OFFSCREEN, self.ctx)
         mujoco.mjr_render(self.viewport, self.scene, self.ctx)
+
+    def render_depth(self) -> np.ndarray:
+        """Depth image of the current state: (height, width) float32, the distance (m) from the
+        camera to the first surface at each pixel, along the camera's viewing axis (a plane
+        facing the camera reads the same everywhere), as MuJoCo's ``Renderer`` gives it; the far
+        clipping distance where nothing is drawn. Physical objects only (the model's geoms and
+        the tether), no water surface, current arrows, markers or overlay."""
+        self._draw(decorations=False)
+        m = self.runner.sim.model
+        if self._depth is None:
+            self._depth = np.zeros((self.s.height, self.s.width), dtype=np.float32)
+        mujoco.mjr_readPixels(None, self._depth, self.viewport, self.ctx)
+        near = m.vis.map.znear * m.stat.extent
+        far = m.vis.map.zfar * m.stat.extent
+        # OpenGL's depth buffer (0 at near, 1 at far, hyperbolic in distance) to metres
+        return np.flipud(near / (1.0 - self._depth * (1.0 - near / far)))
+
+    def render(self) -> np.ndarray:
+        """Render the simulation's current state; returns the frame (height, width, 3) uint8."""
+        self._draw()
         self._overlay()
         mujoco.mjr_readPixels(self._rgb, None, self.viewport, self.ctx)
         f = self._rgb
