@@ -266,7 +266,7 @@ def build(cls, raw, where: str = ""):
             kwargs[base] = [_build_item(lists[base], item, where, f"{key}[{i}]") for i, item in enumerate(v)]
             continue
         if base not in ps:
-            raise ConfigError(prefix + unknown_key_message(cls, k), cls._key(k))
+            raise ConfigError(prefix + unknown_key_message(cls, k), cls._key(_shown_key(k)))
         if base in kwargs:
             raise ConfigError(f"{prefix}{cls._key(base)} is given twice (m/s and knots)", cls._key(base))
         if base != k and isinstance(v, (int, float)) and not isinstance(v, bool):
@@ -295,8 +295,13 @@ RENAMED: dict[str, str] = {}
 """Keys of earlier versions that now have another name: {old key path: message}."""
 
 
+def _shown_key(key: str) -> str:
+    """A key as messages show it: an empty or blank one (TOML allows ``"" = 1``) as ``""``."""
+    return key if key.strip() else f'"{key}"'
+
+
 def unknown_key_message(cls, key: str) -> str:
-    path = cls._key(key)
+    path = cls._key(_shown_key(key))
     if path in RENAMED:
         return f"{path}: {RENAMED[path]}"
     allowed = sorted(params(cls)) + sorted(subsections(cls)) + sorted(table_lists(cls))

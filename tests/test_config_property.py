@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import math
 
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
 from mjtether.config import ConfigError, params, subsections
@@ -97,6 +97,8 @@ def _names_a_key(exc: ConfigError) -> bool:
 
 @settings(max_examples=300, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(raw_scenarios())
+@example({"robot": {"type": "anchor", "position": [40.0, 0.0, -90.0]}, "water": {"depth": 100.0},
+          "": {"": 0.0}})  # an empty key (TOML allows "" = 0): shown as "" (found by Hypothesis)
 def test_any_tree_validates_or_is_refused_with_a_named_key(raw):
     try:
         sc = load_scenario(data=raw, name="<generated>")
