@@ -131,7 +131,8 @@ class Water(Section):
                                     "of penetration on its projected area d l, as MoorDyn's kBot (0: MuJoCo's soft "
                                     "contact at twice the time step)")
     seabed_damping: float = param(0.0, 0.0, 1e10, "Pa s/m", "the tether's seabed contact: pressure per m/s of "
-                                  "penetration speed, as MoorDyn's cBot (used with seabed_stiffness)")
+                                  "penetration speed, as MoorDyn's cBot (used with seabed_stiffness; a contact too "
+                                  "stiff or too damped for simulation.timestep is refused, naming the step that works)")
     gravity: float = param(9.81, 9.7, 9.9, "m/s^2", "gravitational acceleration (weight and buoyancy)")
     density: Density = section(Density)
     current: Current = section(Current)

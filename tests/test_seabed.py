@@ -82,3 +82,35 @@ def test_tether_on_a_frictionless_slope_hangs_from_its_upper_end():
     assert along == pytest.approx(expected, rel=0.01)
     clearance = x[:, 2] - seabed_height(water, x[:, 0], x[:, 1], alpha, heading)
     assert np.abs(clearance * math.cos(alpha) - d / 2).max() < 0.002
+
+
+def test_a_seabed_too_stiff_for_the_step_is_refused_with_the_step_that_works():
+    """MoorDyn's usual seabed (kBot 3e6 Pa/m, cBot 3e5 Pa s/m) under a light line (30 mm,
+    3000 kg/m^3) at 5 ms: per kg of cable the contact damping is 3.2e3 1/s, b dt = 16, and the
+    run diverged (measured: stable to b dt = 10.5, diverging from 13). The builder refuses it,
+    naming the largest step, 8 / b = 2.52 ms (rounded down), within 2x of the largest stable one (about 3.3 ms);
+    at exactly that step the line, lowered 8 m onto the seabed over 20 s, does not diverge."""
+    depth, d, length = 30.0, 0.03, 40.0
+    top, anchor = np.array([0.0, 0.0, -10.0]), np.array([32.0, 0.0, -depth + d / 2])
+    water = mt.WaterColumn(depth=depth)
+    tether = mt.TetherSpec(length=length, segments=20, diameter=d, density=3000.0, EA=1e8)
+
+    def build(dt):
+        spec = new_spec(dt)
+        add_seabed(spec, water, friction=0.5)
+        spec.worldbody.add_body(name="ship", pos=top, mocap=True)
+        tm = mt.add_tether(spec, tether, mt.BodyPoint("ship"), mt.FixedPoint(anchor), water=water,
+                           seabed_friction=0.0, seabed_stiffness=3e6, seabed_damping=3e5)
+        return spec, tm
+
+    with pytest.raises(ValueError, match=r"water.seabed_stiffness = 3e\+06 Pa/m .* need a time step of at most "
+                                         r"0.00252 s, not 0.005 s") as info:
+        build(0.005)
+    dt_max = float(str(info.value).split("at most ")[1].split(" s")[0])
+    spec, tm = build(dt_max)
+    with mt.Simulation(spec, water, [tm]) as sim:
+        for _ in range(int(round(20.0 / dt_max))):
+            t = sim.time + sim.timestep
+            sim.data.mocap_pos[0] = top - [0.0, 0.0, 8.0 * 0.5 * (1 - math.cos(math.pi * min(t / 20.0, 1.0)))]
+            sim.step()  # raises SimulationDiverged if it goes
+        assert np.all(np.isfinite(sim.tether().nodes(sim.data)))
