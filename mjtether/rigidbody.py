@@ -19,7 +19,7 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
-from . import _checks
+from . import _checks, compiled
 from .hydro import rigid_body_loads
 
 
@@ -99,10 +99,10 @@ class BoundBodyHydro:
         self.hydro = h = bm.hydro
         self.water = water
         self.id = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, bm.body)
-        self._cob = np.asarray(h.centre_of_buoyancy)
-        self._cd = np.asarray(h.drag_cd)
-        self._area = np.asarray(h.drag_area)
-        self._ang = np.asarray(h.angular_drag)
+        self._cob = np.asarray(h.centre_of_buoyancy, dtype=float)
+        self._cd = np.asarray(h.drag_cd, dtype=float)
+        self._area = np.asarray(h.drag_area, dtype=float)
+        self._ang = np.asarray(h.angular_drag, dtype=float)
         jnt = model.body_jntadr[self.id]
         if jnt >= 0 and model.jnt_type[jnt] == mujoco.mjtJoint.mjJNT_FREE:
             dof = model.jnt_dofadr[jnt]
@@ -111,6 +111,9 @@ class BoundBodyHydro:
             model.dof_armature[dof + 3:dof + 6] += h.added_inertia
             make_not_simple(model, self.id)
         self._vel = np.zeros(6)
+        # the compiled kernel (``compiled``), where it runs and knows the water's profiles
+        self._codes = compiled.profile_codes(water) if compiled.backend() == "numba" else None
+        self._force, self._torque = np.zeros(3), np.zeros(3)
 
     def loads(self, model, data):
         """Force (N) at the centre of buoyancy, torque (N m) and that point, world frame."""
@@ -120,6 +123,11 @@ class BoundBodyHydro:
         w, v0 = self._vel[:3], self._vel[3:]
         rx, ry, rz = p - data.xpos[self.id]  # v at the centre of buoyancy = v0 + w x r
         v = v0 + (w[1] * rz - w[2] * ry, w[2] * rx - w[0] * rz, w[0] * ry - w[1] * rx)
+        if self._codes is not None:
+            compiled.rigid_body_loads(R, p, v, w, self.hydro.volume, self.hydro.height,
+                                      self._cd, self._area, self._ang, *self._codes, self.water.gravity,
+                                      self._force, self._torque)
+            return self._force.copy(), self._torque.copy(), p
         f, tq = rigid_body_loads(R, p, v, w, volume=self.hydro.volume, height=self.hydro.height,
                                  drag_cd=self._cd, drag_area=self._area, angular_drag=self._ang,
                                  rho_fn=self.water.rho, current_fn=self.water.velocity,

@@ -13,11 +13,11 @@ import math
 import mujoco
 import numpy as np
 
-from . import dispatch
+from . import compiled, dispatch
 from .builder import TETHER_CONTACT_BIT, TetherModel, axial_params, axial_scalar
 from .hydro import bending_forces, element_geometry, tether_loads
 from .rigidbody import BodyHydroModel, BoundBodyHydro, make_not_simple
-from .seabed import STICK_DAMPING, STICK_STIFFNESS, seabed_friction
+from .seabed import CONTACT_TOLERANCE, STICK_DAMPING, STICK_STIFFNESS, seabed_friction
 from .water import WaterColumn
 
 
@@ -137,7 +137,30 @@ class BoundTether:
             float(np.mean(np.abs(mk.element_wet_weight(float(water.rho([0.0])[0]), water.gravity))))
         self._f_min = max(SLACK_FORCE * abs(w0) * self.l0, 1e-6)
         self._seabed = self._find_seabed(model, tm)
+        self._fast = self._compiled_kernels() if compiled.backend() == "numba" else None
         self._relayout()
+
+    def _compiled_kernels(self):
+        """Per-element properties and work arrays for the compiled kernels (``compiled``): each
+        element's diameter, C_dn, C_dt, displaced area per metre and floats' drag area per metre,
+        each joint's EI / l (None without bending), the water profiles' codes (None: evaluated in
+        NumPy), and buffers for the loads."""
+        s, mk, n = self.spec, self.makeup, self.n
+        if mk is None:
+            full = lambda value: np.full(n, float(value))  # noqa: E731
+            c = dict(diameter=full(s.diameter), cd_normal=full(s.cd_normal), cd_tangential=full(s.cd_tangential),
+                     area=full(np.pi * s.diameter**2 / 4.0), cd_area_float=full(0.0),
+                     bend=np.full(max(n - 1, 0), s.EI / self.l0) if s.EI > 0 else None)
+        else:
+            EI, rest = mk.element_EI, np.asarray(mk.element_length, dtype=float)
+            c = dict(diameter=mk.element_diameter, cd_normal=mk.element_cd_normal,
+                     cd_tangential=mk.element_cd_tangential, area=mk.element_area,
+                     cd_area_float=mk.element_float_cd_area,
+                     bend=(0.5 * (EI[1:] + EI[:-1])) / (0.5 * (rest[1:] + rest[:-1])) if np.any(EI > 0) else None)
+            c = {k: (v if v is None else np.ascontiguousarray(v, dtype=float)) for k, v in c.items()}
+        c.update(water=compiled.profile_codes(self.water), rho=np.empty(n), u=np.empty((n, 3)),
+                 f=np.empty((n + 1, 3)), friction=np.empty((n + 1, 3)), stick=np.empty((n + 1, 3)))
+        return c
 
     # ----------------------------------------------------------------- layout of the cable
 
@@ -487,6 +510,13 @@ class BoundTether:
         if preload is not None:
             foot = x - ((x - point) @ normal)[:, None] * normal
             stick = foot + preload / stiffness[:, None]
+        if self._fast is not None:
+            m = len(x)
+            force, new = self._fast["friction"][:m], self._fast["stick"][:m]
+            compiled.seabed_friction(x, v, stick, point, normal, self.spec.diameter / 2, normal_force,
+                                     float(self.tm.seabed_friction), stiffness, damping, CONTACT_TOLERANCE, force,
+                                     new)
+            return force, new
         return seabed_friction(x, v, stick, point=point, normal=normal, radius=self.spec.diameter / 2,
                                normal_force=normal_force, mu=self.tm.seabed_friction, stiffness=stiffness,
                                damping=damping)
@@ -494,6 +524,10 @@ class BoundTether:
     def loads(self, data: mujoco.MjData) -> np.ndarray:
         """Hydrodynamic (+ bending, + seabed friction) loads on the deployed nodes (N, shape
         (n-first+1, 3)); updates the seabed stick points."""
+        return self._loads(data).copy()
+
+    def _loads(self, data: mujoco.MjData) -> np.ndarray:
+        """``loads``, in a buffer of the compiled kernels that the next call overwrites."""
         k = self.first
         x = data.flexvert_xpos[self.vertadr + k:self.vertadr + self.n + 1]
         v = data.qvel[self._dof0 + 3 * k:self._dof0 + 3 * (self.n + 1)].reshape(-1, 3)
@@ -511,6 +545,8 @@ class BoundTether:
             e = x[1] - x[0]
             v = v.copy()
             v[0] += self.payout_rate / max(math.sqrt(e @ e), 1e-9) * e
+        if self._fast is not None:
+            return self._compiled_hydro(x, v)
         mk = self.makeup
         if mk is not None:
             return self._makeup_hydro(x, v)
@@ -523,6 +559,41 @@ class BoundTether:
             f += bending_forces(x, s.EI, self.l0)
         return f
 
+    def _compiled_hydro(self, x: np.ndarray, v: np.ndarray) -> np.ndarray:
+        """``_hydro`` (and ``_makeup_hydro``) with the compiled kernels: the same loads, into a
+        buffer that the next call overwrites."""
+        c, k, m = self._fast, self.first, len(x) - 1
+        rho, u, f = c["rho"][:m], c["u"][:m], c["f"][:m + 1]
+        if c["water"] is None:  # a profile the compiled kernels do not know: its own NumPy code
+            zc = np.minimum(0.5 * (x[1:, 2] + x[:-1, 2]), 0.0)
+            rho[:] = self.water.rho(zc)
+            u[:] = self.water.velocity(zc)
+        else:
+            compiled.element_water(x, *c["water"], rho, u)
+        mk = self.makeup
+        share = 0.5 if mk is not None else self.fairlead_share / max(self.drum_rest, 1e-300)
+        compiled.tether_loads(x, v, self._deployed_rest, c["diameter"][k:], c["cd_normal"][k:],
+                              c["cd_tangential"][k:], c["area"][k:], c["cd_area_float"][k:], rho, u,
+                              self.water.gravity, share, f)
+        if c["bend"] is not None:
+            compiled.add_bending_forces(x, c["bend"][k:], f)
+        if mk is not None and mk.has_point_loads:
+            self._point_loads(x, v, f)
+        return f
+
+    def _point_loads(self, x: np.ndarray, v: np.ndarray, f: np.ndarray) -> None:
+        """Add each point load's buoyancy (under water) and drag 1/2 rho CdA |u - v| (u - v) at its
+        node (its weight is in the node's mass) to ``f`` (N)."""
+        mk = self.makeup
+        z = np.minimum(x[:, 2], 0.0)
+        wet = x[:, 2] <= 0.0
+        rho = np.asarray(self.water.rho(z), float)
+        f[:, 2] += rho * mk.node_volume * self.water.gravity * wet
+        cda = mk.node_cd_area
+        if np.any(cda > 0):
+            u = self.water.velocity(z) - v
+            f += (0.5 * rho * cda * wet * np.sqrt(np.einsum("ij,ij->i", u, u)))[:, None] * u
+
     def _makeup_hydro(self, x: np.ndarray, v: np.ndarray) -> np.ndarray:
         """``_hydro`` of a line make-up: each element with its own diameter, coefficients and
         floats; each point load's buoyancy (under water) and drag 1/2 rho CdA |u - v| (u - v) at
@@ -534,14 +605,7 @@ class BoundTether:
                          rho_fn=self.water.rho, current_fn=self.water.velocity, gravity=self.water.gravity,
                          area=mk.element_area, float_cd_area=float_cda if np.any(float_cda > 0) else None)
         if mk.has_point_loads:
-            z = np.minimum(x[:, 2], 0.0)
-            wet = x[:, 2] <= 0.0
-            rho = np.asarray(self.water.rho(z), float)
-            f[:, 2] += rho * mk.node_volume * self.water.gravity * wet
-            cda = mk.node_cd_area
-            if np.any(cda > 0):
-                u = self.water.velocity(z) - v
-                f += (0.5 * rho * cda * wet * np.sqrt(np.einsum("ij,ij->i", u, u)))[:, None] * u
+            self._point_loads(x, v, f)
         EI = mk.element_EI
         if np.any(EI > 0):
             rest = self._deployed_rest
@@ -578,7 +642,7 @@ class BoundTether:
         f, stick[k:] = self._friction_kernel(x, v, stick[k:], preload=need)
 
     def apply(self, model: mujoco.MjModel, data: mujoco.MjData) -> None:
-        f = self.loads(data)
+        f = self._loads(data)
         data.qfrc_passive[self._dof0 + 3 * self.first:self._dof0 + 3 * (self.n + 1)] += f.ravel()
         if self._normal_prm is not None:
             self._orient_added_mass(data.flexvert_xpos[self.vertadr + self.first:self.vertadr + self.n + 1])

@@ -1,0 +1,293 @@
+"""Compiled twins of the per-step force kernels (numba), and which kernels a run uses.
+
+The NumPy kernels (``hydro.tether_loads``, ``hydro.bending_forces``, ``seabed.seabed_friction``
+and the profiles of ``water``) are the reference: they state the physics, and the tests check
+that these compiled loops give the same forces to 1e-12 relative (``tests/test_compiled.py``).
+The loops exist for speed only: on a 200-element cable a NumPy kernel spends about 100 us per
+step in the overhead of some sixty small array operations, as much as MuJoCo's own step.
+
+The water profiles are compiled by kind (constant, linear, exponential, power-law and tabulated
+current; constant, linear and tabulated density: the classes of ``water``, not subclasses of
+them); a profile of any other class is evaluated by its own NumPy code and passed in.
+
+Which kernels run: the environment variable ``MJTETHER_KERNELS`` = ``numba`` (the default,
+where numba imports) or ``numpy`` (the reference; also what runs where numba is missing).
+numba caches the machine code beside this file (or in its user cache when the package folder is
+read-only), so only the first run on a machine pays the compile time (a few seconds).
+
+Units SI, world frame, as in the NumPy kernels.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+
+import numpy as np
+
+from . import water as _water
+
+try:  # numba is a dependency; the NumPy kernels still run where it cannot be imported
+    import numba
+except ImportError:  # pragma: no cover - exercised only without numba
+    numba = None
+
+KERNELS_ENV = "MJTETHER_KERNELS"
+
+
+def backend() -> str:
+    """The kernels a simulation created now uses: "numba" or "numpy" (see the module doc)."""
+    want = os.environ.get(KERNELS_ENV, "numba").strip().lower() or "numba"
+    if want not in ("numba", "numpy"):
+        raise ValueError(f"{KERNELS_ENV} must be 'numba' or 'numpy', got {want!r}")
+    return "numba" if want == "numba" and numba is not None else "numpy"
+
+
+def _jit(fn):
+    return fn if numba is None else numba.njit(cache=True, nogil=True, error_model="numpy")(fn)
+
+
+# --------------------------------------------------------------------------- water profiles
+
+DENSITY_CONSTANT, DENSITY_LINEAR, DENSITY_TABLE = 0, 1, 2
+CURRENT_CONSTANT, CURRENT_LINEAR, CURRENT_EXPONENTIAL, CURRENT_POWER, CURRENT_TABLE = 0, 1, 2, 3, 4
+
+
+def profile_codes(water) -> tuple[int, np.ndarray, int, np.ndarray] | None:
+    """(density kind, its parameters, current kind, its parameters) of ``water`` for the compiled
+    kernels, or None if a profile is of a class they do not know (it is then evaluated in NumPy)."""
+    d, c = water.density, water.current
+    if type(d) is _water.ConstantDensity:
+        dk, dp = DENSITY_CONSTANT, [d.rho]
+    elif type(d) is _water.LinearDensity:
+        dk, dp = DENSITY_LINEAR, [d.rho_surface, (d.rho_ref - d.rho_surface) / d.depth_ref]
+    elif type(d) is _water.TabulatedDensity:
+        dk, dp = DENSITY_TABLE, np.r_[d.depths, d.rho]
+    else:
+        return None
+    if type(c) is _water.ConstantCurrent:
+        ck, cp = CURRENT_CONSTANT, [c.speed, c.heading]
+    elif type(c) is _water.LinearCurrent:
+        ck, cp = CURRENT_LINEAR, [c.surface_speed, c.bottom_speed, c.depth_ref, c.heading]
+    elif type(c) is _water.ExponentialCurrent:
+        ck, cp = CURRENT_EXPONENTIAL, [c.surface_speed, c.decay_depth, c.heading]
+    elif type(c) is _water.PowerLawCurrent:
+        ck, cp = CURRENT_POWER, [c.surface_speed, c.seabed_depth, c.exponent, c.heading]
+    elif type(c) is _water.TabulatedCurrent:
+        ck, cp = CURRENT_TABLE, np.r_[c.depths, c._ux, c._uy]
+    else:
+        return None
+    return dk, np.asarray(dp, dtype=float), ck, np.asarray(cp, dtype=float)
+
+
+@_jit
+def _density(kind, p, depth):
+    """Density (kg/m^3) at ``depth`` (m, >= 0): ``water``'s profiles."""
+    if kind == 0:
+        return p[0]
+    if kind == 1:
+        return p[0] + p[1] * depth
+    n = p.shape[0] // 2
+    return np.interp(depth, p[:n], p[n:])
+
+
+@_jit
+def _speed(kind, p, depth):
+    """Current speed (m/s) at ``depth`` (m, >= 0) of the profiles of one heading: ``water``'s
+    constant (0), linear (1), exponential (2) and power-law (3) profiles."""
+    if kind == 0:
+        return p[0]
+    if kind == 1:
+        return p[0] + (p[1] - p[0]) * min(depth / p[2], 1.0)
+    if kind == 2:
+        return p[0] * math.exp(-depth / p[1])
+    return p[0] * min(max((p[1] - depth) / p[1], 0.0), 1.0) ** p[2]
+
+
+@_jit
+def element_water(x, dkind, dp, ckind, cp, rho, u):
+    """Density ``rho`` (n,) and current ``u`` (n, 3) at the centres of the elements of the node
+    polyline ``x`` (n+1, 3), at or below the surface (as ``hydro.tether_loads`` takes them)."""
+    n = x.shape[0] - 1
+    if ckind == 4:
+        m = cp.shape[0] // 3
+    else:  # one heading: its direction once, the last two parameters
+        cos, sin = math.cos(cp[cp.shape[0] - 1]), math.sin(cp[cp.shape[0] - 1])
+    for i in range(n):
+        depth = max(-min(0.5 * (x[i + 1, 2] + x[i, 2]), 0.0), 0.0)
+        rho[i] = _density(dkind, dp, depth)
+        if ckind == 4:
+            u[i, 0] = np.interp(depth, cp[:m], cp[m:2 * m])
+            u[i, 1] = np.interp(depth, cp[:m], cp[2 * m:])
+        else:
+            speed = _speed(ckind, cp, depth)
+            u[i, 0] = speed * cos
+            u[i, 1] = speed * sin
+        u[i, 2] = 0.0
+
+
+# --------------------------------------------------------------------------- tether
+
+
+@_jit
+def tether_loads(x, v, rest, diameter, cd_normal, cd_tangential, area, cd_area_float, rho, u, gravity,
+                 first_share, f):
+    """``hydro.tether_loads`` into ``f`` (n+1, 3), N: every element property given per element
+    (n,): rest length l (m), diameter d (m), C_dn, C_dt, displaced area per metre (m^2) and the
+    floats' extra normal drag area per metre (m^2/m); ``rho`` (n,) and ``u`` (n, 3) at the
+    elements' centres (``element_water``)."""
+    n = x.shape[0] - 1
+    half = np.empty((n, 3))
+    fb = np.empty(n)
+    centre = np.empty(n)
+    t = np.empty(3)
+    vrel = np.empty(3)
+    for i in range(n):
+        length = 0.0
+        for j in range(3):
+            t[j] = x[i + 1, j] - x[i, j]
+        length = math.sqrt(t[0] * t[0] + t[1] * t[1] + t[2] * t[2])
+        inv = 1.0 / max(length, 1e-12)
+        for j in range(3):
+            t[j] *= inv
+        # the submerged fraction and the centre of the wet part (hydro.wet_fraction)
+        z0, z1 = x[i, 2], x[i + 1, 2]
+        lo, hi = min(z0, z1), max(z0, z1)
+        span = hi - lo
+        if span > 1e-12:
+            frac = min(max(-lo / span, 0.0), 1.0)
+        else:
+            frac = 1.0 if lo <= 0.0 else 0.0
+        c_low = 0.5 * frac
+        centre[i] = c_low if z0 <= z1 else 1.0 - c_low
+        for j in range(3):
+            vrel[j] = u[i, j] - 0.5 * (v[i + 1, j] + v[i, j])
+        vt_mag = vrel[0] * t[0] + vrel[1] * t[1] + vrel[2] * t[2]
+        vn0 = vrel[0] - vt_mag * t[0]
+        vn1 = vrel[1] - vt_mag * t[1]
+        vn2 = vrel[2] - vt_mag * t[2]
+        vn_mag = math.sqrt(vn0 * vn0 + vn1 * vn1 + vn2 * vn2)
+        q = (0.25 * rest[i] * diameter[i]) * rho[i] * frac
+        kn = q * (cd_normal[i] + cd_area_float[i] / diameter[i]) * vn_mag
+        kt = q * math.pi * cd_tangential[i] * abs(vt_mag)
+        half[i, 0] = vn0 * kn + vt_mag * t[0] * kt
+        half[i, 1] = vn1 * kn + vt_mag * t[1] * kt
+        half[i, 2] = vn2 * kn + vt_mag * t[2] * kt
+        fb[i] = (gravity * area[i] * rest[i]) * rho[i] * frac
+    for j in range(3):
+        f[n, j] = 0.0
+    for i in range(n):
+        for j in range(3):
+            f[i, j] = half[i, j]
+    for i in range(n):
+        for j in range(3):
+            f[i + 1, j] += half[i, j]
+    for i in range(n):
+        f[i, 2] += (1.0 - centre[i]) * fb[i]
+    for i in range(n):
+        f[i + 1, 2] += centre[i] * fb[i]
+    if first_share != 0.5 and n > 0:  # part of element 0's load from node 0 to node 1
+        for j in range(3):
+            s = (1.0 - 2.0 * first_share) * half[0, j]
+            if j == 2:
+                s += (1.0 - centre[0] - first_share) * fb[0]
+            f[0, j] -= s
+            f[1, j] += s
+
+
+@_jit
+def add_bending_forces(x, k, f):
+    """``hydro.bending_forces`` added into ``f`` (n+1, 3), N, with ``k`` (n-1,) = EI / l of each
+    joint (N m)."""
+    n = x.shape[0] - 1
+    if n < 2:
+        return
+    t = np.empty((n, 3))
+    length = np.empty(n)
+    for i in range(n):
+        e0, e1, e2 = x[i + 1, 0] - x[i, 0], x[i + 1, 1] - x[i, 1], x[i + 1, 2] - x[i, 2]
+        length[i] = math.sqrt(e0 * e0 + e1 * e1 + e2 * e2)
+        inv = 1.0 / max(length[i], 1e-12)
+        t[i, 0], t[i, 1], t[i, 2] = e0 * inv, e1 * inv, e2 * inv
+    for i in range(n - 1):  # the joint at node i+1, between elements i (a) and i+1 (b)
+        cos = t[i, 0] * t[i + 1, 0] + t[i, 1] * t[i + 1, 1] + t[i, 2] * t[i + 1, 2]
+        for j in range(3):
+            ga = -k[i] * (t[i + 1, j] - cos * t[i, j]) / length[i]
+            gb = -k[i] * (t[i, j] - cos * t[i + 1, j]) / length[i + 1]
+            f[i, j] += ga
+            f[i + 1, j] += gb - ga
+            f[i + 2, j] -= gb
+
+
+# --------------------------------------------------------------------------- seabed friction
+
+
+@_jit
+def seabed_friction(x, v, stick, point, normal, radius, normal_force, mu, stiffness, damping, tolerance, force,
+                    new):
+    """``seabed.seabed_friction`` into ``force`` (n, 3), N, and the new stick points ``new``
+    (n, 3), NaN off the seabed; ``tolerance`` is ``seabed.CONTACT_TOLERANCE``."""
+    n = x.shape[0]
+    xt = np.empty(3)
+    s = np.empty(3)
+    fv = np.empty(3)
+    for i in range(n):
+        height = (x[i, 0] - point[0]) * normal[0] + (x[i, 1] - point[1]) * normal[1] \
+            + (x[i, 2] - point[2]) * normal[2]
+        if not (height <= (1.0 + 2.0 * tolerance) * radius and normal_force[i] > 0.0):
+            for j in range(3):
+                force[i, j] = 0.0
+                new[i, j] = np.nan
+            continue
+        vn = v[i, 0] * normal[0] + v[i, 1] * normal[1] + v[i, 2] * normal[2]
+        fresh = math.isnan(stick[i, 0]) or math.isnan(stick[i, 1]) or math.isnan(stick[i, 2])
+        for j in range(3):
+            xt[j] = x[i, j] - height * normal[j]  # the node's foot on the seabed
+            s[j] = xt[j] if fresh else stick[i, j]  # a node that lands sticks where it lands
+            fv[j] = stiffness[i] * (s[j] - xt[j])
+        limit = mu * normal_force[i]
+        scale = min(1.0, limit / max(math.sqrt(fv[0] * fv[0] + fv[1] * fv[1] + fv[2] * fv[2]), 1e-300))
+        for j in range(3):  # beyond the limit the stick point is dragged along: the spring stays at mu N
+            new[i, j] = xt[j] + (s[j] - xt[j]) * scale
+            fv[j] = fv[j] * scale - damping[i] * (v[i, j] - vn * normal[j])
+        scale = min(1.0, limit / max(math.sqrt(fv[0] * fv[0] + fv[1] * fv[1] + fv[2] * fv[2]), 1e-300))
+        for j in range(3):
+            force[i, j] = fv[j] * scale
+
+
+# --------------------------------------------------------------------------- rigid bodies
+
+
+@_jit
+def rigid_body_loads(R, p_cob, v_cob, omega, volume, height, drag_cd, drag_area, angular_drag, dkind, dp, ckind, cp,
+                     gravity, force, torque):
+    """``hydro.rigid_body_loads`` into ``force`` (3,), N, at the centre of buoyancy and ``torque``
+    (3,), N m, world frame; the water profiles as codes (``profile_codes``)."""
+    zcob = p_cob[2]
+    depth = max(-min(zcob, 0.0), 0.0)
+    if height > 0:
+        frac = min(max(0.5 - zcob / height, 0.0), 1.0)
+    else:
+        frac = 1.0 if zcob <= 0 else 0.0
+    rho = _density(dkind, dp, depth)
+    u = np.empty(3)
+    if ckind == 4:
+        m = cp.shape[0] // 3
+        u[0] = np.interp(depth, cp[:m], cp[m:2 * m])
+        u[1] = np.interp(depth, cp[:m], cp[2 * m:])
+    else:
+        speed = _speed(ckind, cp, depth)
+        u[0] = speed * math.cos(cp[cp.shape[0] - 1])
+        u[1] = speed * math.sin(cp[cp.shape[0] - 1])
+    u[2] = 0.0
+    fb = np.empty(3)
+    tb = np.empty(3)
+    for k in range(3):  # body axes: R^T (u - v) and R^T omega
+        vk = (u[0] - v_cob[0]) * R[0, k] + (u[1] - v_cob[1]) * R[1, k] + (u[2] - v_cob[2]) * R[2, k]
+        wk = omega[0] * R[0, k] + omega[1] * R[1, k] + omega[2] * R[2, k]
+        fb[k] = (0.5 * rho * frac) * drag_cd[k] * drag_area[k] * abs(vk) * vk
+        tb[k] = -frac * angular_drag[k] * abs(wk) * wk
+    for j in range(3):
+        force[j] = R[j, 0] * fb[0] + R[j, 1] * fb[1] + R[j, 2] * fb[2]
+        torque[j] = R[j, 0] * tb[0] + R[j, 1] * tb[1] + R[j, 2] * tb[2]
+    force[2] += rho * gravity * volume * frac

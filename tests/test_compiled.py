@@ -1,0 +1,168 @@
+"""The compiled kernels (``mjtether.compiled``) against the NumPy reference kernels.
+
+The NumPy kernels state the physics (and are tested against hand-computed Morison loads and
+Coulomb's law in ``test_hydro_kernel`` and ``test_seabed_friction``); the compiled loops must
+give the same numbers. Tolerance: 1e-12 of the largest load in the array. The two compute the
+same expressions in a different order of additions, so they differ by a few ulp of the terms
+summed (1e-16 relative); 1e-12 leaves room for that and for nothing else.
+"""
+
+import mujoco
+import numpy as np
+import pytest
+
+import mjtether as mt
+from mjtether import compiled, hydro, water as wm
+from mjtether.runner import ScenarioRun
+from mjtether.scenario import load_scenario
+from mjtether.seabed import CONTACT_TOLERANCE, seabed_friction
+
+pytestmark = pytest.mark.skipif(compiled.numba is None, reason="numba is not installed")
+
+TOL = 1e-12
+RNG = np.random.default_rng(7)
+
+PROFILES = [
+    (wm.ConstantDensity(1030.0), wm.ConstantCurrent(0.7, heading=0.4)),
+    (wm.LinearDensity(1025.0, 980.0, 500.0), wm.ExponentialCurrent(2.5, decay_depth=15.0, heading=-1.0)),
+    (wm.TabulatedDensity([0.0, 20.0, 80.0], [1022.0, 1026.0, 1028.0]), wm.LinearCurrent(1.0, 0.2, 60.0, heading=2.0)),
+    (wm.ConstantDensity(), wm.PowerLawCurrent(1.2, seabed_depth=90.0, exponent=1 / 7, heading=0.3)),
+    (wm.ConstantDensity(), wm.TabulatedCurrent([0.0, 10.0, 50.0], [1.0, 0.5, 0.1], [0.0, 1.0, 2.5])),
+]
+
+
+def close(a, b, tol=TOL):
+    scale = max(float(np.max(np.abs(b))), 1e-300)
+    assert np.max(np.abs(a - b)) <= tol * scale, f"{np.max(np.abs(a - b)) / scale:.3g} of the largest load"
+
+
+def polyline(n, crossing=True):
+    """A wavy cable of n elements from 95 m deep to (with ``crossing``) 2 m above the surface, so
+    that some elements are dry and one is partly wet."""
+    s = np.linspace(0.0, 1.0, n + 1)
+    top = 2.0 if crossing else -5.0
+    x = np.c_[120 * s, 15 * np.sin(7 * s), -95 + (95 + top) * s ** 1.5]
+    return x + RNG.normal(scale=0.05, size=x.shape)
+
+
+@pytest.mark.parametrize("density, current", PROFILES, ids=lambda p: type(p).__name__)
+def test_tether_loads_match_the_numpy_kernel(density, current):
+    water = wm.WaterColumn(depth=100.0, density=density, current=current)
+    n = 60
+    x, v = polyline(n), RNG.normal(scale=0.8, size=(n + 1, 3))
+    rest = RNG.uniform(1.5, 2.5, n)
+    d, cdn, cdt = RNG.uniform(0.02, 0.06, n), RNG.uniform(1.0, 1.5, n), RNG.uniform(0.005, 0.02, n)
+    area = np.pi * d ** 2 / 4 * RNG.uniform(1.0, 3.0, n)  # floats on some
+    cda = np.where(RNG.random(n) < 0.3, RNG.uniform(0.01, 0.1, n), 0.0)
+    codes = compiled.profile_codes(water)
+    assert codes is not None
+    for share in (0.5, 0.07):
+        ref = hydro.tether_loads(x, v, segment_length=rest, diameter=d, cd_normal=cdn, cd_tangential=cdt,
+                                 rho_fn=water.rho, current_fn=water.velocity, gravity=water.gravity,
+                                 first_share=share, area=area, float_cd_area=cda)
+        rho, u, f = np.empty(n), np.empty((n, 3)), np.full((n + 1, 3), np.nan)
+        compiled.element_water(x, *codes, rho, u)
+        zc = np.minimum(0.5 * (x[1:, 2] + x[:-1, 2]), 0.0)
+        close(rho, water.rho(zc))
+        close(u, water.velocity(zc))
+        compiled.tether_loads(x, v, rest, d, cdn, cdt, area, cda, rho, u, water.gravity, share, f)
+        close(f, ref)
+
+
+def test_bending_matches_the_numpy_kernel():
+    n = 40
+    x = polyline(n, crossing=False)
+    EI = RNG.uniform(10.0, 500.0, n - 1)
+    ref = hydro.bending_forces(x, EI, 2.0)
+    f = np.zeros((n + 1, 3))
+    compiled.add_bending_forces(x, EI / 2.0, f)
+    close(f, ref)
+
+
+def test_seabed_friction_matches_the_numpy_kernel():
+    """Nodes off the seabed, landing (no stick point), sticking and sliding, on a sloping seabed.
+    The stick force k (s - x_foot) is a difference of positions some 50 m from the origin: an ulp
+    of those (7e-15 m) moves it by k ulp, more than 1e-12 of the load (forces to within 4 k ulp)."""
+    n = 80
+    normal = np.array([0.1, -0.05, 1.0])
+    normal /= np.linalg.norm(normal)
+    point = np.array([3.0, -2.0, -50.0])
+    x = RNG.uniform(-40, 40, size=(n, 3))
+    height = RNG.choice([0.0, 0.0095, 0.0105, 0.2], size=n)  # radius 0.01: on, on, just on, off
+    x -= (((x - point) @ normal) - height)[:, None] * normal
+    v = RNG.normal(scale=0.3, size=(n, 3))
+    stick = x + RNG.normal(scale=[0.004, 0.004, 0.0], size=(n, 3))  # some within mu N, some beyond
+    stick[RNG.random(n) < 0.2] = np.nan
+    N = RNG.uniform(0.0, 50.0, n)
+    N[::9] = 0.0  # buoyant nodes do not press on the seabed
+    k, c = RNG.uniform(1e3, 1e4, n), RNG.uniform(0.0, 50.0, n)
+    ref_f, ref_s = seabed_friction(x, v, stick, point=point, normal=normal, radius=0.01, normal_force=N, mu=0.6,
+                                   stiffness=k, damping=c)
+    f, s = np.empty((n, 3)), np.empty((n, 3))
+    compiled.seabed_friction(x, v, stick, point, normal, 0.01, N, 0.6, k, c, CONTACT_TOLERANCE, f, s)
+    ulp = np.spacing(np.max(np.abs(x)))
+    assert np.max(np.abs(f - ref_f)) <= 4 * k.max() * ulp
+    assert np.array_equal(np.isnan(s), np.isnan(ref_s))
+    on = ~np.isnan(ref_s[:, 0])
+    assert 10 < on.sum() < n  # the case covers both
+    close(s[on], ref_s[on])
+
+
+def test_a_profile_of_another_class_is_left_to_numpy():
+    class Doubling(wm.ExponentialCurrent):
+        def speed_at(self, z):
+            return 2 * super().speed_at(z)
+
+    assert compiled.profile_codes(wm.WaterColumn(current=Doubling(1.0))) is None
+
+
+def test_bad_kernel_choice_is_named(monkeypatch):
+    monkeypatch.setenv(compiled.KERNELS_ENV, "fortran")
+    with pytest.raises(ValueError, match="MJTETHER_KERNELS must be 'numba' or 'numpy', got 'fortran'"):
+        compiled.backend()
+
+
+def _walk(monkeypatch, kernels, seconds=3.0):
+    """The built-in walker scenario (payout, seabed friction, current, the walker's hydro) for
+    ``seconds``: the tether's nodes and tensions."""
+    monkeypatch.setenv(compiled.KERNELS_ENV, kernels)
+    sc = load_scenario(overrides=[f"simulation.duration={seconds}"])
+    run = ScenarioRun(sc)
+    try:
+        for _ in range(int(round(seconds / run.sim.timestep))):
+            run.step()
+        t = run.sim.tether()
+        return t.all_nodes(run.sim.data).copy(), t.element_tension(run.sim.data).copy()
+    finally:
+        run.close()
+
+
+def test_a_walker_run_is_the_same_with_either_kernel(monkeypatch):
+    """600 steps of the default scenario: the compiled and the NumPy kernels leave the cable in the
+    same place to 1e-9 m and the tensions to 1e-6 of the largest (rounding differences of 1e-16 per
+    step, grown by the slack switching's thresholds: a larger difference is a different force)."""
+    x_np, T_np = _walk(monkeypatch, "numpy")
+    x_nb, T_nb = _walk(monkeypatch, "numba")
+    assert np.max(np.abs(x_nb - x_np)) < 1e-9
+    close(T_nb, T_np, tol=1e-6)
+
+
+@pytest.mark.parametrize("density, current", PROFILES[:3], ids=lambda p: type(p).__name__)
+def test_rigid_body_loads_match_the_numpy_kernel(density, current):
+    """A tilted, spinning body half out of the water, and one deep down."""
+    water = wm.WaterColumn(depth=100.0, density=density, current=current)
+    codes = compiled.profile_codes(water)
+    q = np.array([0.9, 0.2, -0.3, 0.25])
+    R = np.zeros(9)
+    mujoco.mju_quat2Mat(R, q / np.linalg.norm(q))
+    R = R.reshape(3, 3)
+    cd, area, ang = np.array([0.8, 1.1, 1.3]), np.array([0.3, 0.5, 0.7]), np.array([2.0, 3.0, 4.0])
+    for p in ([1.0, 2.0, -0.1], [3.0, -1.0, -40.0]):
+        p, v, w = np.array(p), np.array([0.4, -0.3, 0.2]), np.array([0.1, -0.5, 0.3])
+        ref = hydro.rigid_body_loads(R, p, v, w, volume=0.05, height=0.4, drag_cd=cd, drag_area=area,
+                                     angular_drag=ang, rho_fn=water.rho, current_fn=water.velocity,
+                                     gravity=water.gravity)
+        f, tq = np.empty(3), np.empty(3)
+        compiled.rigid_body_loads(R, p, v, w, 0.05, 0.4, cd, area, ang, *codes, water.gravity, f, tq)
+        close(f, ref[0])
+        close(tq, ref[1])
