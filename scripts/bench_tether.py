@@ -5,7 +5,8 @@ in a 2.5 m/s exponential current (decay depth 15 m) and a linear density profile
 980 kg/m^3 over 500 m), simulated for 60 s from rest on the still-water catenary shape.
 
 Reports the cost per step and the real-time factor for each N, the cost ratio of N=400 to
-N=100, and the cost of a drum: a 200-element tether with 10 % and with 100 % of it deployed (the
+N=100, MuJoCo's own step of the N=200 model without the hydrodynamics (what MuJoCo alone costs
+here) and the whole step over it, the kernels used (``MJTETHER_KERNELS``), and the cost of a drum: a 200-element tether with 10 % and with 100 % of it deployed (the
 rest parked on the drum). Stability is checked two ways: the drag rate lambda (see
 ``mjtether.stability``) gives lambda dt < 1, and with ``--check`` the N=200 run is repeated
 at half the step: the ship-end tension after 60 s must agree within 1 %.
@@ -38,7 +39,10 @@ def make(N: int, dt: float):
     return mt.Simulation(spec, water, [tm]), tether, water
 
 
-def run(N: int, dt: float, duration: float = 60.0):
+def run(N: int, dt: float, duration: float = 60.0, bare: bool = False):
+    """Cost per step (us) of ``duration`` s from rest; with ``bare``, also that of MuJoCo's own
+    step of the same model in the same state, without the hydrodynamics (the callback
+    suspended) and without the tension-only switching: what MuJoCo alone costs."""
     sim, tether, water = make(N, dt)
     with sim:
         sim.step(10)  # warm up
@@ -47,8 +51,26 @@ def run(N: int, dt: float, duration: float = 60.0):
         sim.step(n)
         wall = time.perf_counter() - t0
         top = float(np.linalg.norm(sim.tether().end_force(sim.data, "start")))
+        us_bare = ratio = None
+        if bare:  # alternate 200 whole steps and 200 bare ones from the same state, 5 times each
+            m, d = sim.model, sim.data
+            state = sim.save_state()
+            whole, own = [], []
+            for _ in range(5):
+                sim.restore_state(state)
+                t0 = time.perf_counter()
+                sim.step(200)
+                whole.append(time.perf_counter() - t0)
+                sim.restore_state(state)
+                with mt.dispatch.suspended():
+                    t0 = time.perf_counter()
+                    for _ in range(200):
+                        mujoco.mj_step(m, d)
+                    own.append(time.perf_counter() - t0)
+            us_bare = float(np.median(own)) / 200 * 1e6
+            ratio = float(np.median(whole)) / float(np.median(own))
     us = wall / n * 1e6
-    return dict(us=us, rtf=dt / (us * 1e-6), top=top,
+    return dict(us=us, rtf=dt / (us * 1e-6), top=top, us_bare=us_bare, over_bare=ratio,
                 lam_dt=mt.stability.drag_rate(tether, water) * dt)
 
 
@@ -81,12 +103,17 @@ def main(argv=None):
     ap.add_argument("--timestep", type=float, default=0.005, help="time step (s)")
     args = ap.parse_args(argv)
     dt = args.timestep
-    res = {N: run(N, dt) for N in SEGMENTS}
+    res = {N: run(N, dt, bare=N == 200) for N in SEGMENTS}
     out = {"N": SEGMENTS, "us_per_step": [round(res[N]["us"], 1) for N in SEGMENTS],
            "timestep": [dt] * len(SEGMENTS), "realtime_factor": [round(res[N]["rtf"], 2) for N in SEGMENTS],
            "ship_tension_N": [round(res[N]["top"], 2) for N in SEGMENTS],
            "drag_rate_x_dt": round(res[200]["lam_dt"], 3),
-           "cost_ratio_400_100": round(res[400]["us"] / res[100]["us"], 2)}
+           "cost_ratio_400_100": round(res[400]["us"] / res[100]["us"], 2),
+           # MuJoCo's own step of the N=200 model (no hydrodynamics, no slack switching), and
+           # the whole step over it (medians of 5 alternating rounds from the same state)
+           "bare_mj_step_us_N200": round(res[200]["us_bare"], 1),
+           "cost_over_bare_N200": round(res[200]["over_bare"], 2),
+           "kernels": mt.compiled.backend()}
     # cable parked on a drum must cost little: 10 % and 100 % of a 200-element tether deployed
     out["drum_us_per_step_10pct"] = round(run_deployed(0.1, dt), 1)
     out["drum_us_per_step_100pct"] = round(run_deployed(1.0, dt), 1)
@@ -102,6 +129,8 @@ def main(argv=None):
         print(f"{N:>5} {out['us_per_step'][i]:>10.1f} {out['realtime_factor'][i]:>12.1f} {out['ship_tension_N'][i]:>17.1f}")
     print(f"cost(400) / cost(100) = {out['cost_ratio_400_100']}; "
           f"N=200 real-time factor {out['realtime_factor'][3]}")
+    print(f"N=200: MuJoCo's own step {out['bare_mj_step_us_N200']} us; the whole step costs "
+          f"{out['cost_over_bare_N200']}x that ({out['kernels']} kernels)")
     print(f"drum of 200 elements: {out['drum_us_per_step_10pct']} us/step with 10 % deployed, "
           f"{out['drum_us_per_step_100pct']} us/step with all of it")
     if args.check:
