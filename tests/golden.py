@@ -1,0 +1,38 @@
+"""The golden runs of ``test_golden``: every example scenario for 2 s after its start.
+
+``runs()`` returns, per example, the recorded rows (``runner.RECORD_FIELDS``, every 0.25 s) and
+the tether's nodes and element tensions at the end, at full precision. They were written to
+``tests/data/golden_runs.npz`` before the runner was split into scene, start, controllers and
+readouts (issue 15), with the compiled kernels, so that the test shows the split changed no bit
+of any result. Regenerate only for a change of the physics, and say which:
+
+    python tests/golden.py   # rewrites tests/data/golden_runs.npz
+"""
+
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[1]
+EXAMPLES = sorted((ROOT / "examples").glob("*.toml"))
+GOLDEN = ROOT / "tests" / "data" / "golden_runs.npz"
+SECONDS = 2.0
+
+
+def runs() -> dict[str, np.ndarray]:
+    from mjtether.runner import run
+    from mjtether.scenario import load_scenario
+
+    out = {}
+    for path in EXAMPLES:
+        sc = load_scenario(path, overrides=[f"simulation.duration={SECONDS}", "simulation.output_interval=0.25"])
+        rows, history, _ = run(sc)
+        out[f"{path.stem}/rows"] = rows
+        out[f"{path.stem}/nodes"] = history["nodes"][-1]
+        out[f"{path.stem}/tension"] = history["tension"][-1]
+    return out
+
+
+if __name__ == "__main__":
+    np.savez_compressed(GOLDEN, **runs())
+    print(f"wrote {GOLDEN}")

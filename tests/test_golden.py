@@ -1,0 +1,45 @@
+"""Restructuring the runner changes no result: every example scenario gives, bit for bit, the
+rows, nodes and tensions it gave before (``tests/golden.py`` says when they were written and how).
+
+Tolerance: none (bitwise). The same operations in the same order give the same bits; this test
+is what shows that moving code between modules moved no arithmetic. It runs with the compiled
+kernels (numba's loops compile without fast-math, so their arithmetic does not depend on the
+CPU)."""
+
+import os
+
+import numpy as np
+import pytest
+
+from golden import EXAMPLES, GOLDEN, runs
+from mjtether import compiled
+
+pytestmark = pytest.mark.skipif(compiled.numba is None, reason="the golden runs were written with numba's kernels")
+
+
+@pytest.fixture(scope="module")
+def now():
+    was = os.environ.pop(compiled.KERNELS_ENV, None)  # the compiled kernels, as the golden runs
+    try:
+        return runs()
+    finally:
+        if was is not None:
+            os.environ[compiled.KERNELS_ENV] = was
+
+
+def test_every_example_is_in_the_golden_file(now):
+    with np.load(GOLDEN) as old:
+        assert sorted(old.files) == sorted(now)
+    assert len(now) == 3 * len(EXAMPLES) >= 24
+
+
+@pytest.mark.parametrize("path", EXAMPLES, ids=lambda p: p.stem)
+def test_example_is_bitwise_the_same(now, path):
+    with np.load(GOLDEN) as old:
+        for part in ("rows", "nodes", "tension"):
+            key = f"{path.stem}/{part}"
+            a, b = now[key], old[key]
+            assert a.shape == b.shape, f"{key}: shape {a.shape}, was {b.shape}"
+            diff = np.flatnonzero(a.ravel() != b.ravel())
+            assert len(diff) == 0, (f"{key}: {len(diff)} of {a.size} values differ, the largest by "
+                                    f"{np.max(np.abs(a - b)):.3g}")
