@@ -294,19 +294,19 @@ class TetherEnv(gym.Env):
     # ---------------------------------------------------------------- readouts
 
     def tow_tension(self) -> float:
-        return self.runner.bt.end_tension(self.runner.sim.data, "end")
+        return self.runner.named.tow_tension
 
     def ship_tension(self) -> float:
-        return self.runner.bt.end_tension(self.runner.sim.data, "start")
+        return self.runner.named.ship_tension
 
     def length_on_seabed(self) -> float:
         """Tether length lying on the seabed (m): elements with both nodes within a diameter."""
-        return self.runner.length_on_seabed()
+        return self.runner.named.length_on_seabed()
 
     def currents(self) -> np.ndarray:
         """Current (x, y) at the observed depths, flattened (m/s)."""
         z = -np.array(CURRENT_DEPTHS) * self.depth
-        return self.runner.water.velocity(z)[:, :2].ravel()
+        return self.runner.named.current_at(z)[:, :2].ravel()
 
     def at_length_limit(self) -> bool:
         w = self.runner.winch
@@ -314,11 +314,8 @@ class TetherEnv(gym.Env):
 
     def robot_kinematics(self):
         """(tow point (3,), yaw (rad), horizontal velocity (2,) in m/s, world frame)."""
-        r = self.runner
-        tow, yaw, _, _ = r.robot_state()
-        vel = np.zeros(6)  # (angular, linear) of the torso frame, world axes
-        mujoco.mj_objectVelocity(r.sim.model, r.sim.data, mujoco.mjtObj.mjOBJ_BODY, r.torso, vel, 0)
-        return tow, yaw, vel[3:5].copy()
+        n = self.runner.named
+        return n.robot_position, n.robot_heading, n.robot_velocity
 
     # ---------------------------------------------------------------- rendering and closing
 
@@ -374,9 +371,8 @@ class TetherEnv(gym.Env):
                 v.cam.distance = {"track": 9.0, "side": 60.0, "top": 60.0}[self._view]
                 v.cam.azimuth, v.cam.elevation = {"track": (135.0, -20.0), "side": (90.0, -5.0),
                                                   "top": (90.0, -89.9)}[self._view]
-        d = r.sim.data
-        x = r.bt.nodes(d)
-        colours = tension_colours(r.bt.tension(d), self.camera_config.get("tension_scale", self.rated_load))
+        x = r.named.tether_nodes
+        colours = tension_colours(r.named.tether_tension, self.camera_config.get("tension_scale", self.rated_load))
         with v.lock():
             scn = v.user_scn
             scn.ngeom = 0

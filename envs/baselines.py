@@ -28,10 +28,9 @@ class SteerToGoal:
 
     def __call__(self, env) -> np.ndarray:
         e = env.unwrapped
-        d = e.runner.sim.data
-        R = d.xmat[e.runner.torso].reshape(3, 3)
-        yaw = math.atan2(R[1, 0], R[0, 0])
-        to_goal = e.goal - d.xpos[e.runner.torso][:2]
+        n = e.runner.named
+        yaw = n.robot_heading
+        to_goal = e.goal - n.torso_position[:2]
         err = (math.atan2(to_goal[1], to_goal[0]) - yaw + math.pi) % (2 * math.pi) - math.pi
         dist = float(np.hypot(*to_goal))
         speed = self.speed * min(1.0, dist / 3.0) * max(0.0, math.cos(err))

@@ -122,23 +122,23 @@ class TetherWinchEnv(TetherEnv):
     # ---------------------------------------------------------------- observation
 
     def _get_obs(self) -> np.ndarray:
-        r = self.runner
+        n = self.runner.named
         tow, _, v = self.robot_kinematics()
         dist = float(np.hypot(tow[0], tow[1]))
         bearing = math.atan2(tow[1], tow[0])
         radial = float(v @ (tow[:2] / max(dist, 1e-9)))
-        obs = np.array([r.bt.deployed_length, self.ship_tension(), self.tow_tension(), dist,
+        obs = np.array([n.deployed_length, n.ship_tension, n.tow_tension, dist,
                         math.sin(bearing), math.cos(bearing), float(np.hypot(*v)), radial,
-                        *self.currents(), self.length_on_seabed(), r.winch.current_rate], dtype=np.float32)
+                        *self.currents(), self.length_on_seabed(), n.payout_rate], dtype=np.float32)
         return np.clip(obs, self.observation_space.low, self.observation_space.high)
 
     def _info(self, terms: dict) -> dict:
-        r = self.runner
+        n = self.runner.named
         tow, _, v = self.robot_kinematics()
-        return {**terms, "ship_tension": self.ship_tension(), "tow_tension": self.tow_tension(),
-                "deployed_length": r.bt.deployed_length, "tow_point": tow, "robot_speed": float(np.hypot(*v)),
+        return {**terms, "ship_tension": n.ship_tension, "tow_tension": n.tow_tension,
+                "deployed_length": n.deployed_length, "tow_point": tow, "robot_speed": float(np.hypot(*v)),
                 "length_on_seabed": self.length_on_seabed(), "rated_load_exceeded": self.broke,
-                "time": r.sim.time}
+                "time": n.time}
 
 
 TetherWinchEnv.__doc__ += kwargs_table(TetherWinchConfig)

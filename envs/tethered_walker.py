@@ -115,16 +115,15 @@ class TetheredWalkerEnv(TetherEnv):
         r.set_command(a[0] * self.max_speed, a[1] * self.max_turn_rate)
         r.winch.command(a[2] * self.max_rate)
         work = 0.0  # mechanical work of the leg actuators over the step (J)
-        d = r.sim.data
         for _ in range(self.frame_skip):
             try:
                 r.step()
             except RunFailed:
                 self.broke = True
                 break
-            work += float(np.abs(d.actuator_force * d.actuator_velocity).sum()) * self.timestep
+            work += r.named.actuator_power * self.timestep
         dist = self._goal_distance()
-        F = r.bt.end_force(d, "end")
+        F = r.named.tow_force
         success = dist <= self.goal_radius
         failed = self.broke or self.at_length_limit()
         terms = {
@@ -155,37 +154,30 @@ class TetheredWalkerEnv(TetherEnv):
 
     def _goal_distance(self) -> float:
         """Horizontal distance (m) from the walker's torso to the goal."""
-        return float(np.hypot(*(self.goal - self.runner.sim.data.xpos[self.runner.torso][:2])))
+        return float(np.hypot(*(self.goal - self.runner.named.torso_position[:2])))
 
     def _get_obs(self) -> np.ndarray:
-        r = self.runner
-        d = r.sim.data
-        R = d.xmat[r.torso].reshape(3, 3)
-        yaw = math.atan2(R[1, 0], R[0, 0])
+        n = self.runner.named
+        yaw = n.robot_heading
         cy, sy = math.cos(yaw), math.sin(yaw)
 
         def to_body(vx, vy):
             return cy * vx + sy * vy, -sy * vx + cy * vy
 
-        p = d.xpos[r.torso][:2]
-        g = to_body(*(self.goal - p))
-        _, _, v = self.robot_kinematics()
-        vb = to_body(*v)
-        F = R.T @ r.bt.end_force(d, "end")
+        g = to_body(*(self.goal - n.torso_position[:2]))
+        vb = to_body(*n.robot_velocity)
         cur = self.currents().reshape(-1, 2)
         cur_b = [c for u in cur for c in to_body(*u)]
-        obs = np.array([*g, float(np.hypot(*g)), *vb, d.qvel[r.sim.model.body_dofadr[r.torso] + 5], *F,
-                        r.bt.deployed_length, self.ship_tension(), self.length_on_seabed(), r.winch.current_rate,
-                        *cur_b], dtype=np.float32)
+        obs = np.array([*g, float(np.hypot(*g)), *vb, n.yaw_rate, *n.tow_force_body, n.deployed_length,
+                        n.ship_tension, self.length_on_seabed(), n.payout_rate, *cur_b], dtype=np.float32)
         return np.clip(obs, self.observation_space.low, self.observation_space.high)
 
     def _info(self, terms: dict) -> dict:
-        r = self.runner
+        n = self.runner.named
         return {**terms, "goal": self.goal.copy(), "goal_distance": self._goal_distance(),
-                "is_success": self._goal_distance() <= self.goal_radius, "ship_tension": self.ship_tension(),
-                "tow_tension": self.tow_tension(), "deployed_length": r.bt.deployed_length,
-                "position": r.sim.data.xpos[r.torso].copy(), "rated_load_exceeded": self.broke,
-                "time": r.sim.time}
+                "is_success": self._goal_distance() <= self.goal_radius, "ship_tension": n.ship_tension,
+                "tow_tension": n.tow_tension, "deployed_length": n.deployed_length,
+                "position": n.torso_position, "rated_load_exceeded": self.broke, "time": n.time}
 
 
 TetheredWalkerEnv.__doc__ += kwargs_table(TetheredWalkerConfig)

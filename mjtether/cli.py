@@ -315,7 +315,7 @@ def _print_khan(r) -> None:
         print("  (the Khan et al. 2023 method applies to a walker moving at constant speed; "
               "this scenario's robot is an anchor)")
         return
-    speed = float(r.commands[0, 1])
+    speed = float(r.gait_drive.commands[0, 1])
     if speed <= 0.0:
         print("  (the Khan et al. 2023 method applies to a walker moving away from the ship; "
               f"the first command is {speed:g} m/s)")

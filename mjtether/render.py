@@ -258,7 +258,7 @@ class FrameRenderer:
         rated = self.runner.sc.tether.rated_load
         if math.isfinite(rated):
             return float(rated)
-        t = self.runner.bt.tension(self.runner.sim.data)
+        t = self.runner.named.tether_tension
         return nice_scale(2.0 * max(float(t.max()), 1.0))
 
     def _extent(self, x: np.ndarray):
@@ -276,7 +276,7 @@ class FrameRenderer:
             return 8.0
         c.type = mujoco.mjtCamera.mjCAMERA_FREE
         if self.s.camera == "track":
-            tow = r.robot_state()[0]
+            tow = r.named.robot_position
             c.lookat[:] = tow
             c.distance, c.azimuth, c.elevation = 9.0, 135.0, -20.0
             return c.distance
@@ -341,11 +341,9 @@ class FrameRenderer:
                 g.size[:] = mk.size
 
     def _overlay(self) -> None:
-        r, d = self.runner, self.runner.sim.data
-        tow = r.bt.end_tension(d, "end")
-        ship = r.bt.end_tension(d, "start")
+        n = self.runner.named
         left = "time\ntow tension\nship tension\ndeployed"
-        right = f"{d.time:7.2f} s\n{tow:7.0f} N\n{ship:7.0f} N\n{r.bt.deployed_length:7.1f} m"
+        right = f"{n.time:7.2f} s\n{n.tow_tension:7.0f} N\n{n.ship_tension:7.0f} N\n{n.deployed_length:7.1f} m"
         mujoco.mjr_overlay(mujoco.mjtFont.mjFONT_NORMAL, mujoco.mjtGridPos.mjGRID_TOPLEFT, self.viewport,
                            left, right, self.ctx)
         # colour bar, bottom left: 10 steps from 0 to the scale
@@ -362,11 +360,11 @@ class FrameRenderer:
         water surface, current arrows and markers too (not physical objects)."""
         r = self.runner
         m, d = r.sim.model, r.sim.data
-        x = r.bt.nodes(d)
+        x = r.named.tether_nodes
         view = self._place_camera(x)
         mujoco.mjv_updateScene(m, d, self.opt, None, self.cam, mujoco.mjtCatBit.mjCAT_ALL, self.scene)
         width = max(r.end_diameter / 2, 0.0025 * view)
-        self._add_tether(x, r.bt.tension(d), width)
+        self._add_tether(x, r.named.tether_tension, width)
         if decorations:
             self._add_water_and_current(x, view)
             self._add_markers()

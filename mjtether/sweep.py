@@ -435,11 +435,9 @@ class _RunProbe:
         self.touchdown_start = None if ss is None or ss.touchdown is None else float(ss.touchdown)
 
     def end(self, runner) -> None:
-        x = runner.bt.nodes(runner.sim.data)
-        on = x[:, 2] < runner.seabed_z(x[:, 0], x[:, 1]) + runner.end_diameter
-        lying = on[1:] & on[:-1]
-        if lying.any():
-            self.touchdown_end = float(runner.bt.rest_lengths[runner.bt.first:][:int(np.argmax(lying))].sum())
+        touchdown = runner.named.touchdown_arc_length()
+        if touchdown is not None:
+            self.touchdown_end = touchdown
 
 
 def run_case(sc: Scenario) -> dict:

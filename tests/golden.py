@@ -1,4 +1,5 @@
-"""The golden runs of ``test_golden``: every example scenario for 2 s after its start.
+"""The golden runs of ``test_golden``: every example scenario for 2 s after its start, and 20
+steps of each environment.
 
 ``runs()`` returns, per example, the recorded rows (``runner.RECORD_FIELDS``, every 0.25 s) and
 the tether's nodes and element tensions at the end, at full precision. They were written to
@@ -30,6 +31,38 @@ def runs() -> dict[str, np.ndarray]:
         out[f"{path.stem}/rows"] = rows
         out[f"{path.stem}/nodes"] = history["nodes"][-1]
         out[f"{path.stem}/tension"] = history["tension"][-1]
+    out.update(env_runs())
+    return out
+
+
+ENVS = ("mjtether/TetherWinch-v0", "mjtether/TetheredWalker-v0")
+
+
+def env_runs(steps: int = 20) -> dict[str, np.ndarray]:
+    """Each environment from ``reset(seed=3)`` for ``steps`` seeded random actions: the
+    observations and rewards."""
+    import gymnasium as gym
+
+    import mjtether.envs  # noqa: F401 - registers the environments
+
+    out = {}
+    for env_id in ENVS:
+        env = gym.make(env_id)
+        try:
+            env.action_space.seed(5)
+            obs, _ = env.reset(seed=3)
+            seen, rewards = [obs], []
+            for _ in range(steps):
+                obs, reward, terminated, truncated, _ = env.step(env.action_space.sample())
+                seen.append(obs)
+                rewards.append(reward)
+                if terminated or truncated:
+                    break
+        finally:
+            env.close()
+        name = env_id.split("/")[1]
+        out[f"{name}/obs"] = np.array(seen)
+        out[f"{name}/reward"] = np.array(rewards)
     return out
 
 

@@ -1,5 +1,6 @@
 """Restructuring the runner changes no result: every example scenario gives, bit for bit, the
-rows, nodes and tensions it gave before (``tests/golden.py`` says when they were written and how).
+rows, nodes and tensions it gave before, and each environment the same observations and rewards
+(``tests/golden.py`` says when they were written and how).
 
 Tolerance: none (bitwise). The same operations in the same order give the same bits; this test
 is what shows that moving code between modules moved no arithmetic. It runs with the compiled
@@ -11,7 +12,7 @@ import os
 import numpy as np
 import pytest
 
-from golden import EXAMPLES, GOLDEN, runs
+from golden import ENVS, EXAMPLES, GOLDEN, runs
 from mjtether import compiled
 
 pytestmark = pytest.mark.skipif(compiled.numba is None, reason="the golden runs were written with numba's kernels")
@@ -30,14 +31,18 @@ def now():
 def test_every_example_is_in_the_golden_file(now):
     with np.load(GOLDEN) as old:
         assert sorted(old.files) == sorted(now)
-    assert len(now) == 3 * len(EXAMPLES) >= 24
+    assert len(now) == 3 * len(EXAMPLES) + 2 * len(ENVS) >= 28
 
 
-@pytest.mark.parametrize("path", EXAMPLES, ids=lambda p: p.stem)
-def test_example_is_bitwise_the_same(now, path):
+CASES = [(p.stem, ("rows", "nodes", "tension")) for p in EXAMPLES] + \
+    [(e.split("/")[1], ("obs", "reward")) for e in ENVS]
+
+
+@pytest.mark.parametrize("name, parts", CASES, ids=[c[0] for c in CASES])
+def test_run_is_bitwise_the_same(now, name, parts):
     with np.load(GOLDEN) as old:
-        for part in ("rows", "nodes", "tension"):
-            key = f"{path.stem}/{part}"
+        for part in parts:
+            key = f"{name}/{part}"
             a, b = now[key], old[key]
             assert a.shape == b.shape, f"{key}: shape {a.shape}, was {b.shape}"
             diff = np.flatnonzero(a.ravel() != b.ravel())

@@ -1,0 +1,141 @@
+"""What drives a scenario between physics steps: the walker's gait, the ship's motion, the winch.
+
+Each controller has ``update(run, t, dt)``, called before every physics step with the time at
+the step's start (s) and the step (s); it reads the run's state (``run.named``, the simulation)
+and writes its commands (joint targets, the ship's mocap position, the deployed length). A
+``ScenarioRun`` calls its controllers in a fixed order: the gait, the ship, the winch.
+
+Units SI, world frame; headings in radians from +x towards +y.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .walker import Tripod
+
+WALK_ACCEL = 0.2
+"""Largest change of the walker's commanded speed (m/s^2)."""
+HEADING_GAIN = 2.0
+"""Heading hold of the walker (1/s): turn rate added per radian of heading error."""
+MAX_TURN = 0.5
+"""Largest turn rate (rad/s) the heading hold asks of the gait."""
+CONTROL_HZ = 100.0
+"""Rate (Hz) at which the gait updates the walker's joint targets."""
+
+
+@dataclass
+class Ship:
+    """Kinematics of the ship's fairlead (m, world; z = ``ship.fairlead_z`` plus heave).
+
+    Modes: ``fixed`` (dynamic positioning), ``follow`` (keeps ``offset`` from the robot, moving
+    at most at ``speed``), ``waypoints`` (visits them in order at ``speed``); the fairlead may
+    heave sinusoidally."""
+
+    mode: str
+    position: np.ndarray
+    offset: np.ndarray
+    waypoints: list
+    speed: float
+    heave_amplitude: float
+    heave_period: float
+    _wp: int = field(default=0)
+
+    @classmethod
+    def from_scenario(cls, sc) -> "Ship":
+        s = sc.ship
+        return cls(s.mode, np.array([*s.position, s.fairlead_z]), np.array([*s.offset, 0.0]),
+                   [np.array([*p, s.fairlead_z]) for p in (s.waypoints or ())], s.speed, s.heave_amplitude,
+                   s.heave_period)
+
+    def advance(self, dt: float, t: float, robot: np.ndarray) -> np.ndarray:
+        """Move the ship over ``dt`` (s) and return the fairlead position."""
+        p = self.position
+        if self.mode == "follow":
+            target = np.array([robot[0], robot[1], p[2]]) + self.offset
+        elif self.mode == "waypoints" and self._wp < len(self.waypoints):
+            target = self.waypoints[self._wp]
+            if np.linalg.norm(target - p) < 1e-6:
+                self._wp += 1
+        else:
+            target = None  # holding station
+        if target is not None:
+            step = target - p
+            dist = float(np.linalg.norm(step))
+            if dist > 0:
+                p = p + step * min(1.0, self.speed * dt / dist)
+            self.position = p
+        if not self.heave_amplitude:
+            return p
+        heave = self.heave_amplitude * math.sin(2 * math.pi * t / self.heave_period)
+        return p + (0.0, 0.0, heave)
+
+    def update(self, run, t: float, dt: float) -> None:
+        """Move the ship's mocap body, following the robot's tow point where it follows."""
+        tow = run.sim.data.site_xpos[run.named.tow_site] if run.walker else run.robot_position
+        run.sim.data.mocap_pos[run.named._ship] = self.advance(dt, t, tow)
+
+
+class WinchDrive:
+    """The winch (``winch.Winch``) on the tether's drum: its law gives the deployed length from
+    the ship-end tension (and, following, the robot's progress along the cable)."""
+
+    def __init__(self, winch):
+        self.winch = winch
+
+    def update(self, run, t: float, dt: float) -> None:
+        tension = run.bt.end_tension(run.sim.data, "start")
+        progress = run.named.progress_rate() if self.winch.mode == "follow" else 0.0
+        run.bt.set_length(self.winch.advance(dt, t, tension, progress), rate=self.winch.current_rate)
+
+
+class GaitDrive:
+    """The walker's gait with a heading hold: commanded speed (m/s) and turn rate (rad/s) from
+    the scenario's schedule ``commands`` (rows of time s, speed m/s, turn rate rad/s) or from
+    ``set_command``; the gait's joint targets at CONTROL_HZ, the speed ramped at WALK_ACCEL."""
+
+    def __init__(self, commands: np.ndarray, gait_period: float, heading: float):
+        self.commands = commands
+        self.manual_command = None
+        self.gait = Tripod(period=gait_period)
+        self.heading_ref = heading  # rad, the commanded heading (the turn rate integrated)
+        self._since_control = 1.0 / CONTROL_HZ  # the first call sets the targets
+        self._speed = 0.0  # m/s, the speed the gait is given (ramped towards the command)
+        self._torso = self._data = None
+
+    def bind(self, model, data, torso: int) -> None:
+        self.gait.bind(model, prefix="walker/")
+        self._torso, self._data = torso, data
+
+    def command(self, t: float) -> tuple[float, float]:
+        """The commanded (speed m/s, turn rate rad/s) at time ``t`` (s): the one set with
+        ``set_command``, else the scenario's schedule."""
+        if self.manual_command is not None:
+            return self.manual_command
+        k = int(np.searchsorted(self.commands[:, 0], t, side="right")) - 1
+        return float(self.commands[k, 1]), float(self.commands[k, 2])
+
+    def set_command(self, speed: float, turn_rate: float) -> None:
+        """Command the walker directly (m/s, rad/s), overriding the schedule from now on."""
+        self.manual_command = (float(speed), float(turn_rate))
+
+    def drive(self, dt: float, speed: float, turn_rate: float) -> None:
+        """Gait targets at CONTROL_HZ (the position servos run at every step)."""
+        self._since_control += dt
+        self.heading_ref += turn_rate * dt
+        if self._since_control >= 1.0 / CONTROL_HZ - 1e-9:
+            # heading hold: the open-loop gait drifts, and the tether's pull turns the walker
+            R = self._data.xmat[self._torso].reshape(3, 3)
+            err = (self.heading_ref - math.atan2(R[1, 0], R[0, 0]) + math.pi) % (2 * math.pi) - math.pi
+            turn = max(-MAX_TURN, min(MAX_TURN, turn_rate + HEADING_GAIN * err))
+            # speed changes ramp at WALK_ACCEL: a step in stride jerks the stance legs
+            dv = WALK_ACCEL * self._since_control
+            self._speed = max(self._speed - dv, min(self._speed + dv, speed))
+            self._data.ctrl[self.gait.actuators] = self.gait.targets(self._since_control, self._speed, turn)
+            self._since_control = 0.0
+
+    def update(self, run, t: float, dt: float) -> None:
+        self.drive(dt, *self.command(t))

@@ -1,0 +1,300 @@
+"""Named readouts of a running scenario: what the CLI records, the plots and the renderer draw
+and the environments observe, each read the same way from MuJoCo's state.
+
+``run.named`` (a ``ScenarioRun``'s) is a ``Readouts``: ``run.named.ship_tension``,
+``run.named.tow_force_body``, ``run.named.robot_heading`` ... (as dm_control's
+``physics.named``). Each is computed from the state of the last step when it is read; arrays
+are fresh copies. ``record()`` gives one row of ``RECORD_FIELDS``, the columns of
+``timeseries.csv``.
+
+Units SI; world frame (z up, surface z = 0) unless the name says ``body`` (the robot's frame:
+x forward, y left, z up); angles in radians here, degrees in the record.
+"""
+
+from __future__ import annotations
+
+import math
+
+import mujoco
+import numpy as np
+
+RECORD_FIELDS = [
+    ("time", "s", "simulated time"),
+    ("ship_tension", "N", "tension at the ship (magnitude of the force on the fairlead)"),
+    ("ship_force_x", "N", "force of the tether on the ship, world x"),
+    ("ship_force_y", "N", "... world y"),
+    ("ship_force_z", "N", "... world z"),
+    ("tow_tension", "N", "tension at the robot's tow point"),
+    ("tow_force_x", "N", "force of the tether on the robot, world x"),
+    ("tow_force_y", "N", "... world y"),
+    ("tow_force_z", "N", "... world z"),
+    ("tow_force_body_x", "N", "the same force in the robot's body frame (x forward)"),
+    ("tow_force_body_y", "N", "... body y (left)"),
+    ("tow_force_body_z", "N", "... body z (up)"),
+    ("cable_moment_x", "N m", "M_c = r_c x T_c about the robot's centre of mass (Khan Eq. 38), world x"),
+    ("cable_moment_y", "N m", "... world y"),
+    ("cable_moment_z", "N m", "... world z"),
+    ("deployed_length", "m", "unstretched deployed length"),
+    ("payout_rate", "m/s", "winch payout rate (negative: reel-in)"),
+    ("ship_x", "m", "ship position x"),
+    ("ship_y", "m", "ship position y"),
+    ("robot_x", "m", "robot (tow point) position x"),
+    ("robot_y", "m", "... y"),
+    ("robot_z", "m", "... z"),
+    ("robot_heading", "deg", "robot heading, from +x towards +y, in (-180, 180]"),
+    ("robot_roll", "deg", "robot roll (about its body x, forward), 0 standing level"),
+    ("robot_pitch", "deg", "robot pitch (about its body y, left), positive nose down"),
+    ("robot_speed", "m/s", "robot horizontal speed"),
+    ("tether_lowest_z", "m", "height of the tether's lowest node"),
+    ("length_on_seabed", "m", "tether length lying on the seabed (elements with both nodes within one diameter of it)"),
+    ("slack_elements", "", "deployed elements carrying no tension"),
+]
+
+
+def roll_pitch(R: np.ndarray) -> tuple[float, float]:
+    """Roll and pitch (rad) of a body with rotation matrix ``R`` (body to world, z-y-x Euler
+    angles: heading, then pitch about the body's y, then roll about its x)."""
+    return math.atan2(R[2, 1], R[2, 2]), math.asin(max(-1.0, min(1.0, -R[2, 0])))
+
+
+class Readouts:
+    """The named readouts of ``run`` (a ``runner.ScenarioRun``), read from its simulation's
+    current state."""
+
+    def __init__(self, run):
+        self._run = run
+        self._sim, self._bt = run.sim, run.sim.tether()
+        m = run.sim.model
+        self._ship = m.body("ship").mocapid[0]
+        self._walker = run.walker
+        self.torso = m.body("walker/torso").id if self._walker else None
+        """Body id of the walker's torso (None for an anchor)."""
+        self.tow_site = m.site("walker/tow_point").id if self._walker else None
+        """Site id of the walker's tow point (None for an anchor)."""
+        self._vel6 = np.zeros(6)
+
+    # ------------------------------------------------------------------ the tether's ends
+
+    @property
+    def time(self) -> float:
+        """Simulated time (s)."""
+        return float(self._sim.data.time)
+
+    @property
+    def ship_force(self) -> np.ndarray:
+        """Force of the tether on the ship's fairlead (N, world)."""
+        return self._bt.end_force(self._sim.data, "start")
+
+    @property
+    def ship_tension(self) -> float:
+        """Tension at the ship (N): the magnitude of ``ship_force``."""
+        return self._bt.end_tension(self._sim.data, "start")
+
+    @property
+    def tow_force(self) -> np.ndarray:
+        """Force of the tether on the robot's tow point (N, world)."""
+        return self._bt.end_force(self._sim.data, "end")
+
+    @property
+    def tow_tension(self) -> float:
+        """Tension at the robot's tow point (N)."""
+        return self._bt.end_tension(self._sim.data, "end")
+
+    @property
+    def tow_force_body(self) -> np.ndarray:
+        """``tow_force`` in the robot's body frame (N; an anchor's frame is the world's)."""
+        return self.robot_rotation.T @ self.tow_force
+
+    @property
+    def cable_moment(self) -> np.ndarray:
+        """Moment of the tether's force about the robot's centre of mass (N m, world): M_c =
+        r_c x T_c (Khan et al. 2023, Eq. 38); zero for an anchor, which has none of its own."""
+        if not self._walker:
+            return np.zeros(3)
+        d = self._sim.data
+        return np.cross(self.robot_position - d.subtree_com[self.torso], self.tow_force)
+
+    # ------------------------------------------------------------------ winch and ship
+
+    @property
+    def deployed_length(self) -> float:
+        """Unstretched deployed length (m)."""
+        return self._bt.deployed_length
+
+    @property
+    def payout_rate(self) -> float:
+        """The winch's payout rate (m/s; negative: reel-in)."""
+        return self._run.winch.current_rate
+
+    @property
+    def ship_position(self) -> np.ndarray:
+        """Position of the ship's mocap body (m, world; the fairlead's, less its heave)."""
+        return self._sim.data.mocap_pos[self._ship].copy()
+
+    # ------------------------------------------------------------------ the robot
+
+    @property
+    def robot_position(self) -> np.ndarray:
+        """The robot's tow point (m, world)."""
+        if not self._walker:
+            return np.array(self._run.robot_position, dtype=float)
+        return self._sim.data.site_xpos[self.tow_site].copy()
+
+    def robot_state(self):
+        """(tow point (m, world), heading (rad), horizontal speed (m/s), body rotation matrix),
+        read together."""
+        d = self._sim.data
+        if not self._walker:
+            return self._run.robot_position, 0.0, 0.0, np.eye(3)
+        R = d.xmat[self.torso].reshape(3, 3)
+        vel = np.zeros(6)  # (angular, linear), world frame, at the torso frame's origin
+        mujoco.mj_objectVelocity(self._sim.model, d, mujoco.mjtObj.mjOBJ_BODY, self.torso, vel, 0)
+        return d.site_xpos[self.tow_site].copy(), math.atan2(R[1, 0], R[0, 0]), float(np.hypot(*vel[3:5])), R
+
+    @property
+    def robot_rotation(self) -> np.ndarray:
+        """The robot's orientation, body to world (3x3; the identity for an anchor)."""
+        if not self._walker:
+            return np.eye(3)
+        return self._sim.data.xmat[self.torso].reshape(3, 3).copy()
+
+    @property
+    def robot_heading(self) -> float:
+        """Heading of the robot's body x axis (rad, from +x towards +y; 0 for an anchor)."""
+        if not self._walker:
+            return 0.0
+        R = self._sim.data.xmat[self.torso].reshape(3, 3)
+        return math.atan2(R[1, 0], R[0, 0])
+
+    @property
+    def robot_roll_pitch(self) -> tuple[float, float]:
+        """Roll and pitch of the robot (rad; see ``roll_pitch``)."""
+        return roll_pitch(self.robot_rotation)
+
+    @property
+    def robot_velocity(self) -> np.ndarray:
+        """Horizontal velocity (m/s, world x and y) of the robot's torso frame (0 for an anchor)."""
+        if not self._walker:
+            return np.zeros(2)
+        vel = np.zeros(6)  # (angular, linear), world frame, at the torso frame's origin
+        mujoco.mj_objectVelocity(self._sim.model, self._sim.data, mujoco.mjtObj.mjOBJ_BODY, self.torso, vel, 0)
+        return vel[3:5].copy()
+
+    @property
+    def robot_speed(self) -> float:
+        """Horizontal speed of the robot (m/s)."""
+        return float(np.hypot(*self.robot_velocity))
+
+    @property
+    def torso_position(self) -> np.ndarray:
+        """Position of the walker's torso frame (m, world)."""
+        return self._sim.data.xpos[self.torso].copy()
+
+    @property
+    def actuator_power(self) -> float:
+        """Mechanical power of the walker's actuators, |force x velocity| summed (W)."""
+        d = self._sim.data
+        return float(np.abs(d.actuator_force * d.actuator_velocity).sum())
+
+    @property
+    def yaw_rate(self) -> float:
+        """The walker's angular velocity about world z (rad/s): its free joint's last dof."""
+        m = self._sim.model
+        return float(self._sim.data.qvel[m.body_dofadr[self.torso] + 5])
+
+    def progress_rate(self) -> float:
+        """The robot's velocity (m/s) along the cable's direction at the robot, away from the
+        ship: the horizontal direction from the cable's node one nominal element back (or the
+        ship, if it is straight above) to the tow point."""
+        if not self._walker:
+            return 0.0
+        d = self._sim.data
+        bt = self._bt
+        x = d.flexvert_xpos[bt.vertadr + bt.n - 1:bt.vertadr + bt.n + 1]  # the last two nodes
+        ex, ey = float(x[1, 0] - x[0, 0]), float(x[1, 1] - x[0, 1])
+        if math.hypot(ex, ey) < 1e-3 * bt.l0:
+            ship = d.mocap_pos[self._ship]
+            ex, ey = float(x[1, 0] - ship[0]), float(x[1, 1] - ship[1])
+        vel = self._vel6
+        mujoco.mj_objectVelocity(self._sim.model, d, mujoco.mjtObj.mjOBJ_SITE, self.tow_site, vel, 0)
+        return float(vel[3] * ex + vel[4] * ey) / max(math.hypot(ex, ey), 1e-9)
+
+    # ------------------------------------------------------------------ the tether
+
+    @property
+    def tether_nodes(self) -> np.ndarray:
+        """The deployed nodes (m, world), shape (N+1, 3), the first at the ship."""
+        return self._bt.nodes(self._sim.data)
+
+    @property
+    def tether_tension(self) -> np.ndarray:
+        """Tension of the deployed elements (N, never negative), the first at the ship."""
+        return self._bt.tension(self._sim.data)
+
+    @property
+    def element_nodes(self) -> np.ndarray:
+        """Every node allocated (m, world), numbered from the drum's core; those on the drum at
+        the fairlead."""
+        return self._bt.all_nodes(self._sim.data)
+
+    @property
+    def element_tension(self) -> np.ndarray:
+        """Tension of every element allocated (N); 0 for slack ones and those on the drum."""
+        return self._bt.element_tension(self._sim.data)
+
+    @property
+    def element_length(self) -> np.ndarray:
+        """Stretched length of every element allocated (m); 0 for those on the drum."""
+        return self._bt.element_length(self._sim.data)
+
+    @property
+    def slack_elements(self) -> int:
+        """Deployed elements carrying no tension."""
+        return self._bt.slack_count(self._sim.data)
+
+    def length_on_seabed(self, x: np.ndarray | None = None) -> float:
+        """Unstretched tether length (m) lying on the seabed: the deployed elements with both
+        nodes within one diameter of it (``x``: the deployed nodes, if already read)."""
+        run = self._run
+        x = self._bt.nodes(self._sim.data) if x is None else x
+        on = x[:, 2] < run.seabed_z(x[:, 0], x[:, 1]) + run.end_diameter
+        return float(self._bt.rest_lengths[self._bt.first:][on[1:] & on[:-1]].sum())
+
+    def touchdown_arc_length(self) -> float | None:
+        """Unstretched arc length (m, from the ship) to the first deployed element lying on the
+        seabed (as ``length_on_seabed`` counts them), or None if none does."""
+        run = self._run
+        x = self._bt.nodes(self._sim.data)
+        on = x[:, 2] < run.seabed_z(x[:, 0], x[:, 1]) + run.end_diameter
+        lying = on[1:] & on[:-1]
+        if not lying.any():
+            return None
+        return float(self._bt.rest_lengths[self._bt.first:][:int(np.argmax(lying))].sum())
+
+    # ------------------------------------------------------------------ the water
+
+    def current_at(self, z) -> np.ndarray:
+        """Current velocity (m/s, world) at heights ``z`` (m), shape ``z.shape + (3,)``."""
+        return self._run.water.velocity(np.asarray(z, dtype=float))
+
+    # ------------------------------------------------------------------ the record
+
+    def record(self) -> list:
+        """One row of ``RECORD_FIELDS``."""
+        d = self._sim.data
+        bt = self._bt
+        fs = bt.end_force(d, "start")
+        fe = bt.end_force(d, "end")
+        x = bt.nodes(d)
+        on_bottom = self.length_on_seabed(x)
+        ship = d.mocap_pos[self._ship]
+        tow, yaw, speed, R = self.robot_state()
+        if self._walker:  # Khan et al. Eq. 38 about the walker's centre of mass
+            moment = np.cross(tow - d.subtree_com[self.torso], fe)
+        else:
+            moment = np.zeros(3)  # an anchor has no centre of mass of its own
+        roll, pitch = roll_pitch(R)
+        return [d.time, float(np.linalg.norm(fs)), *fs, float(np.linalg.norm(fe)), *fe, *(R.T @ fe), *moment,
+                bt.deployed_length, self._run.winch.current_rate, ship[0], ship[1], *tow, math.degrees(yaw),
+                math.degrees(roll), math.degrees(pitch), speed, float(x[:, 2].min()), on_bottom,
+                bt.slack_count(d)]

@@ -1,0 +1,255 @@
+"""How a scenario run starts: the walker's standing pose, the tether's quasi-static steady state
+(or, where there is none and the scenario allows it, a guessed shape that settles with the
+robot held), and the pre-roll that loads the seabed contacts before t = 0.
+
+Units SI, world frame (z up, surface z = 0).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+
+import mujoco
+import numpy as np
+
+from . import water as wm
+from .controllers import CONTROL_HZ
+from .quasistatic import initial_state, steady_state
+from .scene import Scene
+from .simulation import Simulation
+from .walker import Tripod
+
+PREROLL_S = 1.0
+"""Seconds simulated before t = 0 with the ship and winch still (see ``preroll``)."""
+MAX_START_STRAIN = 0.1
+"""A steady state stretching the tether by more than this is not taken as a start."""
+STAND_S = 2.0
+"""Seconds the walker stands alone on the seabed to find its resting pose before the run is built."""
+SETTLE_S = 10.0
+"""Seconds a ``start = "settle"`` run lets the cable fall into place with the robot held."""
+FALLBACK_SUBSTEPS = 4
+"""Pre-roll sub-steps per time step when the run starts from a guessed shape."""
+
+
+def stand_walker(scene: Scene, gait_run: Tripod, dt: float):
+    """Let the walker stand (stepping in place) on the seabed for STAND_S without the tether,
+    with its hydrodynamics, then put it back at its commanded position and heading; returns
+    ({joint: (qpos, qvel)}, the actuators' controls, tow point (m, world)) of that pose, and
+    leaves ``gait`` (the run's) at the phase it stood in."""
+    spec = scene.spec
+    with Simulation(spec.copy(), scene.water, bodies=scene.bodies) as sim:
+        m, d = sim.model, sim.data
+        gait = Tripod(period=gait_run.period).bind(m, prefix="walker/")
+        every = max(1, int(round(1.0 / (CONTROL_HZ * dt))))
+        for _ in range(max(1, int(round(STAND_S / (every * dt))))):
+            d.ctrl[gait.actuators] = gait.targets(every * dt, 0.0, 0.0)
+            sim.step(every)
+        # it may have turned or slid a little while its feet found the seabed: put it back at
+        # the commanded position and heading, turning it about the seabed's normal
+        torso = m.body("walker/torso")
+        adr = m.jnt_qposadr[torso.jntadr[0]]
+        tilt = np.array(spec.geom("seabed").quat)
+        normal = np.zeros(9)
+        mujoco.mju_quat2Mat(normal, tilt)
+        n = normal[[2, 5, 8]]
+        R = d.xmat[torso.id].reshape(3, 3)
+        fwd = R[:, 0] - (R[:, 0] @ n) * n  # the body's forward axis in the seabed's plane
+        want = np.array([math.cos(scene.heading), math.sin(scene.heading), 0.0])
+        want = want - (want @ n) * n
+        turn = math.atan2(np.cross(fwd, want) @ n, fwd @ want)
+        q_turn = np.zeros(4)
+        mujoco.mju_axisAngle2Quat(q_turn, n, turn)
+        q = np.zeros(4)
+        mujoco.mju_mulQuat(q, q_turn, d.qpos[adr + 3:adr + 7].copy())
+        x, y = scene.sc.robot.start
+        start = np.array([x, y, scene.seabed_z(x, y)])
+        p = d.qpos[adr:adr + 3].copy()
+        p = start + (p - start) @ n * n  # same height over the seabed, at the commanded place
+        d.qpos[adr:adr + 3], d.qpos[adr + 3:adr + 7] = p, q / np.linalg.norm(q)
+        d.qvel[:6] = 0.0
+        sim.forward()
+        pose = {}
+        for j in range(m.njnt):  # every joint of the walker's bodies, by (body, index in body)
+            body = mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_BODY, int(m.jnt_bodyid[j])) or ""
+            if body.startswith("walker/"):
+                adr, dof = m.jnt_qposadr[j], m.jnt_dofadr[j]
+                nq, nv = {0: (7, 6), 1: (4, 3), 2: (1, 1), 3: (1, 1)}[int(m.jnt_type[j])]
+                key = (body, j - int(m.body_jntadr[m.jnt_bodyid[j]]))
+                pose[key] = (d.qpos[adr:adr + nq].copy(), d.qvel[dof:dof + nv].copy())
+        gait_run.phase = gait.phase  # the run goes on stepping from where it stood
+        return pose, d.ctrl.copy(), d.site_xpos[m.site("walker/tow_point").id].copy()
+
+
+def steady_start(scene: Scene, top, robot, dt: float):
+    """The quasi-static steady state to start from (with the tow point on the seabed the
+    seabed is taken one cable radius lower, where the cable's axis lies), or ``None`` and
+    why, if there is none; the run then stops, or starts from ``fallback_nodes`` and
+    settles where the scenario asks for it (``simulation.start``)."""
+    radius = scene.end_diameter / 2
+    # the cable's axis rests one radius above the seabed; a walker's tow point is higher: the
+    # steady state is solved to the point on the seabed under it, for the length less that
+    # height, and the cable then rises straight up to the tow point (on a sloped seabed: a
+    # flat one at the depth under the tow point, kept if the line it gives stays clear of
+    # the slope)
+    depth = -scene.seabed_z(robot[0], robot[1]) - radius
+    rise = max(robot[2] + depth, 0.0) if scene.walker else 0.0
+    foot = np.array([robot[0], robot[1], robot[2] - rise])
+    water = wm.WaterColumn(depth=depth, density=scene.water.density,
+                           current=scene.water.current, gravity=scene.water.gravity)
+    L = scene.line.length
+    reach = float(np.linalg.norm(robot - top))
+    if scene.makeup is None and scene.tether_spec.EA is None and reach >= L:
+        return None, (f"no steady state (an inextensible tether of {L:g} m cannot reach from the ship to the "
+                      f"robot, {reach:.2f} m away)")
+    if rise >= 0.5 * L:
+        return None, f"no steady state (the tow point is {rise:.2f} m above the seabed, the tether {L:g} m long)"
+    ss, note = _solve_start(scene, water, top, foot, dt, length=L - rise)
+    if ss is None:
+        return None, note
+    if rise > 0:  # the nodes' material points on the solved line, then up to the tow point
+        s_solved = arc_lengths(scene, L - rise)
+        pts = np.vstack([ss.nodes, robot])
+        s_pts = np.r_[s_solved, L]
+        s_new = arc_lengths(scene, L)
+        nodes = np.c_[[np.interp(s_new, s_pts, pts[:, k]) for k in range(3)]].T
+        ss = replace(ss, nodes=nodes, velocity=np.zeros_like(nodes), tension=np.interp(
+            0.5 * (s_new[1:] + s_new[:-1]), 0.5 * (s_solved[1:] + s_solved[:-1]), ss.tension))
+    x = ss.nodes
+    EA = scene.tether_spec.EA if scene.makeup is None else scene.makeup.element_EA  # (inf or NaN: inextensible)
+    strain = np.nan_to_num(ss.tension / (np.inf if EA is None else EA), nan=0.0)
+    if strain.max() > MAX_START_STRAIN:
+        j = int(np.argmax(strain))
+        return None, (f"no steady state within the tether's strength (it would be stretched by "
+                      f"{100 * strain[j]:.0f} %, at {ss.tension[j]:.3g} N)")
+    below = float(np.max(scene.seabed_z(x[:, 0], x[:, 1]) + radius - x[:, 2]))
+    if below > 2 * radius:
+        return None, f"no steady state clear of the sloped seabed (it crosses it by {below:.2f} m)"
+    return ss, note
+
+
+def _solve_start(scene: Scene, water, top, robot, dt, length=None):
+    """``quasistatic.initial_state`` for the scenario's tether, with retries: the laid part's tension
+    has a kink where seabed friction takes it all, and a coarse tether's touchdown jumps
+    from element to element; either can stall Newton. So: as given; with 4N elements,
+    keeping every 4th node (the same material points); then both without friction (the
+    run then starts with the friction the laid cable's geometry needs, up to mu w: see
+    ``BoundTether.preload_friction``).
+    Returns (state, note) or (None, why)."""
+    cb = scene.sc.tether.seabed_friction
+    if scene.makeup is not None:
+        return _solve_makeup_start(scene, water, top, robot, length)
+    spec = scene.tether_spec if length is None else replace(scene.tether_spec, length=length)
+    sim = scene.sc.simulation
+    layout = dict(layout=sim.laid_layout, layout_angle=math.radians(sim.laid_layout_angle_deg))
+    if scene.walker:  # slack cable lies back along the walker's track
+        layout["layout_direction"] = (-math.cos(scene.heading), -math.sin(scene.heading))
+    n4 = f" solved with {4 * spec.segments} elements"
+    tries = [(1, cb, ""), (4, cb, n4)]
+    if cb > 0:
+        tries += [(1, 0.0, " without seabed friction"), (4, 0.0, n4 + " without seabed friction")]
+    first = None
+    for k, friction, how in tries:
+        try:
+            ss = initial_state(replace(spec, segments=k * spec.segments), water, top, robot, timestep=dt,
+                               seabed=True, seabed_friction=friction, **layout)
+        except RuntimeError as exc:  # Newton stalled: try the next way
+            first = first or exc
+            continue
+        except ValueError as exc:  # no steady state exists
+            return None, f"no steady state ({exc})"
+        if k > 1:
+            ss = replace(ss, nodes=ss.nodes[::k].copy(), velocity=ss.velocity[::k].copy(),
+                         tension=ss.tension.reshape(-1, k).mean(axis=1), jacobian=None)
+        return ss, "quasi-static steady state" + (f"{how} (as given: {first})" if how else "")
+    return None, f"no steady state (the solver did not converge: {first})"
+
+
+def _solve_makeup_start(scene: Scene, water, top, robot, length=None):
+    """``_solve_start`` for a line make-up: its steady state (``steady_state`` with each
+    section's EA; a slack laid make-up is not solved), with seabed friction, then without."""
+    line = scene.makeup if length is None else scene.makeup.truncated(length)
+    cb = scene.sc.tether.seabed_friction
+    first = None
+    for friction, how in ((cb, ""), (0.0, " without seabed friction")) if cb > 0 else ((0.0, ""),):
+        try:
+            ss = steady_state(line, water, top, robot, seabed=True, seabed_friction=friction)
+        except RuntimeError as exc:  # Newton stalled (NotImplementedError: a slack make-up)
+            if isinstance(exc, NotImplementedError):
+                return None, f"no steady state ({exc})"
+            first = first or exc
+            continue
+        except ValueError as exc:
+            return None, f"no steady state ({exc})"
+        return ss, "quasi-static steady state of the line make-up" + (f"{how} (as given: {first})" if how else "")
+    return None, f"no steady state (the solver did not converge: {first})"
+
+
+def arc_lengths(scene: Scene, length: float) -> np.ndarray:
+    """Unstretched arc lengths (m, from the ship) of the nodes of the tether cut to ``length``
+    m (the whole of it, or less its rise to a walker's tow point)."""
+    if scene.makeup is None:
+        return np.linspace(0.0, length, scene.tether_spec.segments + 1)
+    return scene.makeup.truncated(length).node_arc_length
+
+
+def fallback_nodes(scene: Scene, top, robot) -> np.ndarray:
+    """A start that stays above the seabed when there is no steady state: the cable hangs
+    straight down from the ship to the seabed, then runs along it to the tow point, with any
+    excess length laid as a sideways detour (a slack tether coils on the bottom)."""
+    L = scene.line.length
+    lift = scene.end_diameter / 2 / math.cos(scene.slope)  # the cable's axis over the seabed
+
+    def on_floor(p):
+        return np.array([p[0], p[1], float(scene.seabed_z(p[0], p[1])) + lift])
+
+    a = on_floor(top)
+    b = on_floor(robot)
+    run = np.array([b[0] - a[0], b[1] - a[1], 0.0])
+    span = float(np.linalg.norm(b - a))
+    excess = L - (top[2] - a[2]) - span - (robot[2] - b[2])
+    side = np.array([-run[1], run[0], 0.0]) / max(np.linalg.norm(run), 1e-9) if span > 1e-9 \
+        else np.array([0.0, 1.0, 0.0])
+    detour = [on_floor(a + side * excess / 2), on_floor(b + side * excess / 2)] if excess > 0 else []
+    pts = np.array([top, a, *detour, b, robot])
+    seg = np.linalg.norm(np.diff(pts, axis=0), axis=1)
+    s = np.r_[0.0, np.cumsum(seg)]
+    u = arc_lengths(scene, L) * (s[-1] / L)
+    return np.c_[[np.interp(u, s, pts[:, k]) for k in range(3)]].T
+
+
+def preroll(run, settle: bool) -> None:
+    """Put the walker in its standing pose, then pre-roll ``run`` (a ``runner.ScenarioRun``):
+    soft contacts carry the laid cable's (and the walker's) weight only once they are pressed
+    in; PREROLL_S of standing still lets them load, then t is reset to 0. A settling start is
+    far from equilibrium: it settles for SETTLE_S with finer steps, the walker held, then
+    PREROLL_S released. The ship and the winch do not move."""
+    sim = run.sim
+    m, dt = sim.model, sim.model.opt.timestep
+    gait = run.gait_drive
+    if gait is not None:
+        d = sim.data
+        for (body, k), (q, v) in run.stand_pose.items():
+            j = m.body_jntadr[m.body(body).id] + k
+            d.qpos[m.jnt_qposadr[j]:m.jnt_qposadr[j] + len(q)] = q
+            d.qvel[m.jnt_dofadr[j]:m.jnt_dofadr[j] + len(v)] = v
+        d.ctrl[:] = run.stand_ctrl
+        sim.forward()
+    sub = 1 if not settle else FALLBACK_SUBSTEPS
+    m.opt.timestep = dt / sub
+    try:
+        if settle:
+            for _ in range(max(1, int(round(SETTLE_S / dt))) * sub):
+                if gait is not None:
+                    gait.drive(dt / sub, 0.0, 0.0)
+                sim.step()
+            if gait is not None:
+                sim.data.eq_active[m.equality("walker/hold").id] = 0
+        for _ in range(max(1, int(round(PREROLL_S / dt))) * sub):
+            if gait is not None:
+                gait.drive(dt / sub, 0.0, 0.0)
+            sim.step()
+    finally:
+        m.opt.timestep = dt
+    sim.data.time = 0.0
+    sim.forward()
