@@ -2,7 +2,8 @@
 
 Tether (lumped-mass discretisation, nodes 0..N, element i joins nodes i and i+1), after the
 design conventions and Morison's equation. For element i of unstretched length l, diameter d,
-unit tangent t and relative velocity v_rel = u(z_c) - v_c at its centre:
+unit tangent t and relative velocity v_rel = u(z_c) - v_c at its centre (``morison_drag``, the
+one drag kernel of the dynamic tether and the quasi-static solver):
 
 * normal drag      F_n = 1/2 rho C_dn d l_wet |v_n| v_n,
 * tangential drag  F_t = 1/2 rho C_dt pi d l_wet |v_t| v_t,
@@ -48,6 +49,29 @@ def wet_fraction(z0: np.ndarray, z1: np.ndarray):
     return frac, centre
 
 
+def morison_drag(t: np.ndarray, u: np.ndarray, rho, l_wet, diameter, cd_normal, cd_tangential_pi,
+                 float_cd_area=None) -> np.ndarray:
+    """Morison drag (N, world) on straight cable elements, shape (K, 3): normal
+    1/2 rho C_dn d l_wet |u_n| u_n plus tangential 1/2 rho C_dt pi d l_wet |u_t| u_t, plus, with
+    ``float_cd_area`` (m^2 per metre of cable: floats on it), 1/2 rho C_dA l_wet |u_n| u_n.
+
+    Args:
+        t: unit tangents (K, 3); u: flow relative to the element (current less its velocity),
+            m/s (K, 3).
+        rho: water density (kg/m^3), l_wet: wetted length (m), diameter (m), cd_normal and
+            cd_tangential_pi (C_dt times pi): scalars or one per element (K,).
+    """
+    ut = (u * t).sum(axis=1)
+    un = u - ut[:, None] * t
+    q = 0.5 * diameter * l_wet * rho
+    un_mag = np.sqrt((un * un).sum(axis=1))
+    f = (q * cd_normal * un_mag)[:, None] * un
+    f += (q * cd_tangential_pi * np.abs(ut) * ut)[:, None] * t
+    if float_cd_area is not None:  # the floats' own normal drag
+        f += (0.5 * float_cd_area * l_wet * rho * un_mag)[:, None] * un
+    return f
+
+
 def tether_loads(
     x: np.ndarray,
     v: np.ndarray,
@@ -83,18 +107,9 @@ def tether_loads(
     rho = rho_fn(zc)
     vrel = current_fn(zc)
     vrel -= 0.5 * (v[1:] + v[:-1])
-    vt_mag = np.einsum("ij,ij->i", vrel, t)
-    vt = vt_mag[:, None] * t
-    vn = vrel - vt
-    vn_mag = np.sqrt(np.einsum("ij,ij->i", vn, vn))
-    # each of the element's two nodes takes half of its drag: q = 1/2 (1/2 rho d l_wet)
-    q = (0.25 * segment_length * diameter) * rho * frac
-    if float_cd_area is not None:  # the floats' own normal drag: C_d A per metre, on the same q
-        vn *= (q * (cd_normal + float_cd_area / diameter) * vn_mag)[:, None]
-    else:
-        vn *= (q * cd_normal * vn_mag)[:, None]
-    vt *= (q * np.pi * cd_tangential * np.abs(vt_mag))[:, None]
-    half = vn + vt
+    # each of the element's two nodes takes half of its drag
+    half = 0.5 * morison_drag(t, vrel, rho, segment_length * frac, diameter, cd_normal, np.pi * np.asarray(cd_tangential),
+                              float_cd_area)
     if area is None:
         fb = (gravity * np.pi * diameter**2 / 4.0 * segment_length) * rho * frac
     else:

@@ -17,6 +17,7 @@ from . import compiled, dispatch
 from .builder import TETHER_CONTACT_BIT, TetherModel, axial_params, axial_scalar
 from .hydro import bending_forces, element_geometry, tether_loads
 from .rigidbody import BodyHydroModel, BoundBodyHydro, make_not_simple
+from .vehicle import BoundVehicle, VehicleModel
 from .seabed import CONTACT_TOLERANCE, STICK_DAMPING, STICK_STIFFNESS, seabed_friction
 from .water import WaterColumn
 
@@ -816,9 +817,13 @@ class Simulation:
             self.tethers[tm.name] = BoundTether(tm, self.model, self.data, water)
         self.bodies = []
         for bm in bodies:
-            if not isinstance(bm, BodyHydroModel):
-                raise ValueError("bodies must be BodyHydroModel objects returned by add_body_hydro")
-            self.bodies.append(BoundBodyHydro(bm, self.model, water))
+            if isinstance(bm, VehicleModel):
+                self.bodies.append(BoundVehicle(bm, self.model, water))
+            elif isinstance(bm, BodyHydroModel):
+                self.bodies.append(BoundBodyHydro(bm, self.model, water))
+            else:
+                raise ValueError("bodies must be BodyHydroModel or VehicleModel objects returned by add_body_hydro "
+                                 "or add_vehicle")
         self._providers = [*self.tethers.values(), *self.bodies]
         self._buf = np.empty(mujoco.mj_stateSize(self.model, _STATE))
         self._eq_snapshot = self.data.eq_active.copy()

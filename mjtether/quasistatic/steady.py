@@ -111,7 +111,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from .. import _checks
-from ..hydro import wet_fraction
+from ..hydro import morison_drag, wet_fraction
 from ..makeup import LineMakeup
 from ..tether import TetherSpec
 from ..water import WaterColumn
@@ -252,14 +252,9 @@ class _Cable:
             l_wet = l * wet_fraction(z0, z1)[0]
         rho = self.water.rho(zc)
         u = self.water.velocity(zc) - self.v_tow
-        ut = (u * t).sum(axis=1)
-        un = u - ut[:, None] * t
-        q = 0.5 * d * l_wet * rho
-        f = (q * self.cdn_e[k] * np.sqrt((un * un).sum(axis=1)))[:, None] * un
-        f += (q * self.cdt_pi_e[k] * np.abs(ut) * ut)[:, None] * t
+        floats = self.float_cda[k] if self.float_cda is not None and self.float_cda[k] > 0.0 else None
+        f = morison_drag(t, u, rho, l_wet, d, self.cdn_e[k], self.cdt_pi_e[k], floats)
         f[:, 2] += (rho * A * l_wet - mu * l) * self.g
-        if self.float_cda is not None and self.float_cda[k] > 0.0:  # the floats' own normal drag
-            f += (0.5 * self.float_cda[k] * l_wet * rho * np.sqrt((un * un).sum(axis=1)))[:, None] * un
         return f
 
     def node_load(self, x, j):
