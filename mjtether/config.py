@@ -28,7 +28,7 @@ import numpy as np
 
 INF = math.inf
 
-KINDS = ("float", "int", "str", "bool", "vec2", "vec3", "list", "rows2", "rows3")
+KINDS = ("float", "int", "str", "bool", "vec2", "vec3", "list", "rows2", "rows3", "rows4")
 """Parameter kinds: a number, an integer, a string (optionally one of ``choices``), a boolean, a
 point (x, y) or (x, y, z), a list of numbers, or a table of rows of 2 or 3 numbers."""
 
@@ -65,7 +65,8 @@ class Param:
         what = {"float": "a number in", "int": "an integer in", "vec2": "two numbers [a, b], each in",
                 "vec3": "three numbers [x, y, z], each in", "list": "a list of numbers, each in",
                 "rows2": "a list of [a, b] rows, each number in",
-                "rows3": "a list of [a, b, c] rows, each number in"}[self.kind]
+                "rows3": "a list of [a, b, c] rows, each number in",
+                "rows4": "a list of [a, b, c, d] rows, each number in"}[self.kind]
         return f"{what} {rng}"
 
     def check(self, key: str, value):
@@ -110,7 +111,7 @@ class Param:
             if not _is_sequence(value) or len(value) == 0:
                 bad()
             return tuple(number(v) for v in value)
-        if k in ("rows2", "rows3"):
+        if k in ("rows2", "rows3", "rows4"):
             n = int(k[-1])
             if not _is_sequence(value) or len(value) == 0 or any(not _is_sequence(r) or len(r) != n for r in value):
                 bad()

@@ -75,7 +75,7 @@ class Ship:
 
     def update(self, run, t: float, dt: float) -> None:
         """Move the ship's mocap body, following the robot's tow point where it follows."""
-        tow = run.sim.data.site_xpos[run.named.tow_site] if run.walker else run.robot_position
+        tow = run.robot_position if run.named.tow_site is None else run.sim.data.site_xpos[run.named.tow_site]
         run.sim.data.mocap_pos[run.named._ship] = self.advance(dt, t, tow)
 
 
@@ -139,3 +139,60 @@ class GaitDrive:
 
     def update(self, run, t: float, dt: float) -> None:
         self.drive(dt, *self.command(t))
+
+
+PILOT_HZ = 20.0
+"""Rate (Hz) at which a vehicle's autopilot updates its thrusters' commands."""
+
+
+class VehiclePilot:
+    """Speed, heading and depth autopilot of a vehicle (gains: ``vehicles.Autopilot``), and the
+    allocation of the wrench it asks for to the thrusters.
+
+    ``setpoints``: rows of (time s, surge speed m/s, heading rad, depth m), each held until the
+    next. At PILOT_HZ: a surge force from the speed error (PI), a yaw moment from the heading
+    error (PID, on the yaw rate), a world-vertical force from the depth error (PID, on the
+    vertical speed); the wrench [X + Z_body, Z_body, ..., N] is met as closely as the thrusters'
+    limits allow (bounded least squares, scipy's ``lsq_linear``), each thruster's command being
+    the thrust wanted (N), which its actuator lags and clips."""
+
+    def __init__(self, setpoints: np.ndarray, gains, thrusters, actuators: np.ndarray):
+        from .vehicles import thrust_matrix
+
+        self.setpoints = setpoints
+        self.gains = gains
+        self.B = thrust_matrix(thrusters)
+        self.lo = np.array([-t.max_reverse for t in thrusters])
+        self.hi = np.array([t.max_forward for t in thrusters])
+        self.actuators = actuators
+        self._i = np.zeros(3)  # integrals of the speed (m), heading (rad s) and depth (m s) errors
+        self._since = 1.0 / PILOT_HZ  # the first call commands
+        self.wrench = np.zeros(6)  # the wrench last asked for (N, N m; body frame)
+
+    def setpoint(self, t: float) -> tuple[float, float, float]:
+        k = int(np.searchsorted(self.setpoints[:, 0], t, side="right")) - 1
+        return tuple(float(x) for x in self.setpoints[k, 1:])
+
+    def update(self, run, t: float, dt: float) -> None:
+        from scipy.optimize import lsq_linear
+
+        from .vehicles import heading_error
+
+        self._since += dt
+        if self._since < 1.0 / PILOT_HZ - 1e-9:
+            return
+        h, self._since = self._since, 0.0
+        g = self.gains
+        speed, heading, depth = self.setpoint(t)
+        nu, R = run.vehicle.velocity(run.sim.data)
+        e = np.array([speed - nu[0], heading_error(heading, math.atan2(R[1, 0], R[0, 0])),
+                      -depth - float(run.sim.data.xpos[run.vehicle.id][2])])
+        self._i += e * h
+        w = float((R @ nu[:3])[2])
+        X = g.speed_kp * e[0] + g.speed_ki * self._i[0]
+        N = g.heading_kp * e[1] - g.heading_kd * nu[5] + g.heading_ki * self._i[1]
+        Z = g.depth_kp * e[2] - g.depth_kd * w + g.depth_ki * self._i[2]
+        f = R.T @ np.array([0.0, 0.0, Z])
+        self.wrench = np.array([X + f[0], f[1], f[2], 0.0, 0.0, N])
+        if self.B.shape[1]:
+            run.sim.data.ctrl[self.actuators] = lsq_linear(self.B, self.wrench, bounds=(self.lo, self.hi)).x

@@ -66,11 +66,13 @@ class Readouts:
         self._sim, self._bt = run.sim, run.sim.tether()
         m = run.sim.model
         self._ship = m.body("ship").mocapid[0]
-        self._walker = run.walker
-        self.torso = m.body("walker/torso").id if self._walker else None
-        """Body id of the walker's torso (None for an anchor)."""
-        self.tow_site = m.site("walker/tow_point").id if self._walker else None
-        """Site id of the walker's tow point (None for an anchor)."""
+        # a robot with a body of its own: the walker (its torso) or a vehicle (its hull)
+        self._bodied = run.walker or run.is_vehicle
+        prefix = "walker" if run.walker else "vehicle"
+        self.torso = m.body("walker/torso" if run.walker else "vehicle").id if self._bodied else None
+        """Body id of the robot: the walker's torso or the vehicle's hull (None for an anchor)."""
+        self.tow_site = m.site(f"{prefix}/tow_point").id if self._bodied else None
+        """Site id of the robot's tow point (None for an anchor)."""
         self._vel6 = np.zeros(6)
 
     # ------------------------------------------------------------------ the tether's ends
@@ -109,7 +111,7 @@ class Readouts:
     def cable_moment(self) -> np.ndarray:
         """Moment of the tether's force about the robot's centre of mass (N m, world): M_c =
         r_c x T_c (Khan et al. 2023, Eq. 38); zero for an anchor, which has none of its own."""
-        if not self._walker:
+        if not self._bodied:
             return np.zeros(3)
         d = self._sim.data
         return np.cross(self.robot_position - d.subtree_com[self.torso], self.tow_force)
@@ -136,7 +138,7 @@ class Readouts:
     @property
     def robot_position(self) -> np.ndarray:
         """The robot's tow point (m, world)."""
-        if not self._walker:
+        if not self._bodied:
             return np.array(self._run.robot_position, dtype=float)
         return self._sim.data.site_xpos[self.tow_site].copy()
 
@@ -144,7 +146,7 @@ class Readouts:
         """(tow point (m, world), heading (rad), horizontal speed (m/s), body rotation matrix),
         read together."""
         d = self._sim.data
-        if not self._walker:
+        if not self._bodied:
             return self._run.robot_position, 0.0, 0.0, np.eye(3)
         R = d.xmat[self.torso].reshape(3, 3)
         vel = np.zeros(6)  # (angular, linear), world frame, at the torso frame's origin
@@ -154,14 +156,14 @@ class Readouts:
     @property
     def robot_rotation(self) -> np.ndarray:
         """The robot's orientation, body to world (3x3; the identity for an anchor)."""
-        if not self._walker:
+        if not self._bodied:
             return np.eye(3)
         return self._sim.data.xmat[self.torso].reshape(3, 3).copy()
 
     @property
     def robot_heading(self) -> float:
         """Heading of the robot's body x axis (rad, from +x towards +y; 0 for an anchor)."""
-        if not self._walker:
+        if not self._bodied:
             return 0.0
         R = self._sim.data.xmat[self.torso].reshape(3, 3)
         return math.atan2(R[1, 0], R[0, 0])
@@ -174,7 +176,7 @@ class Readouts:
     @property
     def robot_velocity(self) -> np.ndarray:
         """Horizontal velocity (m/s, world x and y) of the robot's torso frame (0 for an anchor)."""
-        if not self._walker:
+        if not self._bodied:
             return np.zeros(2)
         vel = np.zeros(6)  # (angular, linear), world frame, at the torso frame's origin
         mujoco.mj_objectVelocity(self._sim.model, self._sim.data, mujoco.mjtObj.mjOBJ_BODY, self.torso, vel, 0)
@@ -206,7 +208,7 @@ class Readouts:
         """The robot's velocity (m/s) along the cable's direction at the robot, away from the
         ship: the horizontal direction from the cable's node one nominal element back (or the
         ship, if it is straight above) to the tow point."""
-        if not self._walker:
+        if not self._bodied:
             return 0.0
         d = self._sim.data
         bt = self._bt
@@ -289,7 +291,7 @@ class Readouts:
         on_bottom = self.length_on_seabed(x)
         ship = d.mocap_pos[self._ship]
         tow, yaw, speed, R = self.robot_state()
-        if self._walker:  # Khan et al. Eq. 38 about the walker's centre of mass
+        if self._bodied:  # Khan et al. Eq. 38 about the robot's centre of mass
             moment = np.cross(tow - d.subtree_com[self.torso], fe)
         else:
             moment = np.zeros(3)  # an anchor has no centre of mass of its own

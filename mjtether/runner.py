@@ -22,10 +22,11 @@ import mujoco
 import numpy as np
 
 from . import builder, start
-from .controllers import GaitDrive, Ship, WinchDrive  # noqa: F401 - Ship: the run's ship kinematics
+from .controllers import GaitDrive, Ship, VehiclePilot, WinchDrive  # noqa: F401 - Ship: the run's ship kinematics
 from .readouts import RECORD_FIELDS, Readouts, roll_pitch  # noqa: F401 - the record's columns
 from .scenario import Scenario
-from .scene import build_scene, makeup_from, tether_from, water_from, winch_from  # noqa: F401
+from .scene import VEHICLE, build_scene, makeup_from, tether_from, vehicle_quat, vehicle_tow_point  # noqa: F401
+from .scene import water_from, winch_from  # noqa: F401
 from .simulation import Simulation
 
 
@@ -45,7 +46,8 @@ class ScenarioRun:
         self.line, self.winch, self.ship, self.walker = scene.line, scene.winch, scene.ship, scene.walker
         dt = sc.simulation.timestep
         spec = scene.spec
-        self.gait_drive = None
+        self.gait_drive = self.pilot = self.vehicle = None
+        self.is_vehicle = scene.vehicle is not None
         if self.walker:
             r = sc.robot
             commands = np.array(r.commands, dtype=float)  # (s, m/s, rad/s)
@@ -55,6 +57,9 @@ class ScenarioRun:
             # its tow point standing, and the run starts with the walker in that pose
             self.stand_pose, self.stand_ctrl, robot = start.stand_walker(scene, self.gait_drive.gait, dt)
             end = builder.SitePoint("walker/tow_point")
+        elif self.is_vehicle:  # the tether is solved to its tow point at the start
+            robot = vehicle_tow_point(scene)
+            end = builder.SitePoint(f"{VEHICLE}/tow_point")
         else:
             robot = scene.anchor_point()
             end = builder.FixedPoint(robot)
@@ -84,6 +89,16 @@ class ScenarioRun:
                                      end_at=robot if self.walker else None, added_mass=sc.tether.added_mass)
         self.sim = Simulation(spec, self.water, tethers=[self.tm], bodies=scene.bodies)
         try:
+            if self.is_vehicle:  # level, at its start heading, at rest
+                m = self.sim.model
+                adr = m.joint(f"{VEHICLE}/ball").qposadr[0]
+                self.sim.data.qpos[adr:adr + 4] = vehicle_quat(scene.heading)
+                self.sim.forward()
+                self.vehicle = self.sim.bodies[-1]
+                vs, sp = scene.vehicle, np.array(sc.robot.setpoints, dtype=float)
+                sp[:, 2] = np.radians(sp[:, 2])
+                acts = np.array([m.actuator(f"{VEHICLE}/{t.name}").id for t in vs.thrusters], dtype=int)
+                self.pilot = VehiclePilot(sp, vs.autopilot, vs.thrusters, acts)
             if self.initial is not None:  # the steady state's seabed friction, carried into the run
                 self.sim.tether().preload_friction(self.sim.data, self.initial.tension)
             self.bt = self.sim.tether()
@@ -91,8 +106,9 @@ class ScenarioRun:
             self.torso, self.tow_site = self.named.torso, self.named.tow_site
             if self.gait_drive is not None:
                 self.gait_drive.bind(self.sim.model, self.sim.data, self.torso)
-            # the order they act in at each step: the gait, then the ship, then the winch
-            self.controllers = [c for c in (self.gait_drive, self.ship, WinchDrive(self.winch)) if c is not None]
+            # the order they act in at each step: the gait or autopilot, then the ship, then the winch
+            self.controllers = [c for c in (self.gait_drive, self.pilot, self.ship, WinchDrive(self.winch))
+                                if c is not None]
             start.preroll(self, settle)
         except BaseException:
             self.sim.close()  # a run that cannot start leaves nothing registered

@@ -353,20 +353,39 @@ class Winch(Section):
 @dataclass(frozen=True)
 class Robot(Section):
     PATH = "robot"
-    type: str = param("walker", doc="walker (the hexapod of assets/walker) or anchor (a fixed tow point)",
-                      choices=("walker", "anchor"))
-    position: tuple | None = param(None, -1e6, 1e6, "m", "anchor (required): tow point (x, y, z)", kind="vec3")
+    type: str = param("walker", doc="walker (the hexapod of assets/walker), anchor (a fixed tow point) or vehicle "
+                      "(a free-swimming vehicle with an autopilot, see robot.vehicle)",
+                      choices=("walker", "anchor", "vehicle"))
+    position: tuple | None = param(None, -1e6, 1e6, "m", "anchor (required): tow point (x, y, z); vehicle "
+                                   "(required): its origin at the start (its tow point is in its vehicle file)", kind="vec3")
     start: tuple = param((60.0, 0.0), -1e6, 1e6, "m", "walker: start position (x, y) on the seabed", kind="vec2")
-    heading_deg: float = param(0.0, -360.0, 360.0, "deg", "walker: start heading, from +x towards +y")
+    heading_deg: float = param(0.0, -360.0, 360.0, "deg", "walker and vehicle: start heading, from +x towards +y")
     commands: tuple = param(((0.0, 0.3, 0.0),), -1e6, 1e6, "s, m/s, deg/s", "walker: schedule of [time, forward "
                             "speed, turn rate], each held until the next", kind="rows3")
     gait_period: float = param(1.2, 0.4, 5.0, "s", "walker: tripod gait cycle")
+    vehicle: str = param("bluerov2_heavy", doc="vehicle: a shipped vehicle (mjtether.vehicles.shipped()) or a "
+                         "vehicle file (.toml, see mjtether.vehicles)")
+    setpoints: tuple = param(((0.0, 0.0, 0.0, 10.0),), -1e6, 1e6, "s, m/s, deg, m", "vehicle: the autopilot's "
+                             "schedule of [time, surge speed, heading, depth], each held until the next",
+                             kind="rows4")
 
     def _check(self):
-        if self.type == "anchor" and self.position is None:
-            raise ConfigError("robot.position is required for an anchor: [x, y, z] in m", "robot.position")
-        if self.type == "anchor" and self.position[2] > 0.0:
+        if self.type in ("anchor", "vehicle") and self.position is None:
+            raise ConfigError(f"robot.position is required for {'an anchor' if self.type == 'anchor' else 'a vehicle'}"
+                              ": [x, y, z] in m", "robot.position")
+        if self.type in ("anchor", "vehicle") and self.position[2] > 0.0:
             self._bad("position", "the tow point is above the water surface (z = 0); give z <= 0 m")
+        if self.type == "vehicle":
+            times = [s[0] for s in self.setpoints]
+            if times[0] != 0.0 or any(b <= a for a, b in zip(times, times[1:])):
+                self._bad("setpoints", "the times (first column, s) must start at 0 and increase")
+            if any(s[3] < 0.0 for s in self.setpoints):
+                self._bad("setpoints", "depths (last column) are below the surface: give them >= 0 m")
+            from .vehicles import load_vehicle
+            try:
+                load_vehicle(self.vehicle)
+            except ValueError as exc:
+                self._bad("vehicle", str(exc))
         times = [c[0] for c in self.commands]
         if times[0] != 0.0 or any(b <= a for a, b in zip(times, times[1:])):
             self._bad("commands", "the times (first column, s) must start at 0 and increase")
@@ -421,7 +440,7 @@ class Scenario(Section):
         def bad(key, value, why):
             raise ConfigError(f"{key} = {value}: {why}", key)
 
-        if r.type == "anchor":
+        if r.type in ("anchor", "vehicle"):
             x, y, z = r.position
             if z < w.seabed_z(x, y) - 1e-6:
                 bad("robot.position", list(r.position), f"z = {z:g} m is below the seabed (z = {w.seabed_z(x, y):.2f} m "

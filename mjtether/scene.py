@@ -23,12 +23,15 @@ from .makeup import LineMakeup
 from .rigidbody import add_body_hydro
 from .scenario import Scenario
 from .tether import TetherSpec
+from .vehicles import VehicleSpec, build_vehicle, load_vehicle
 from .walker import HYDRO as WALKER_HYDRO
 from .walker import walker_spec
 from .winch import Winch
 
 WALKER_STAND_HEIGHT = 0.9
 """Height (m) of the walker's torso above the seabed when it is placed."""
+VEHICLE = "vehicle"
+"""Name of a vehicle robot's body (its actuators and sites are prefixed ``vehicle/``)."""
 
 
 def water_from(sc: Scenario) -> wm.WaterColumn:
@@ -95,8 +98,9 @@ class Scene:
     slope: float  # rad
     slope_heading: float  # rad
     walker: bool
-    heading: float | None  # rad, the walker's commanded heading at the start
-    bodies: list = field(default_factory=list)  # rigid-body hydrodynamics (the walker's torso)
+    heading: float | None  # rad, the walker's or vehicle's heading at the start
+    bodies: list = field(default_factory=list)  # rigid-body hydrodynamics (the walker's torso, a vehicle)
+    vehicle: VehicleSpec | None = None  # a vehicle robot's parameter file
 
     @property
     def line(self):
@@ -142,10 +146,26 @@ def build_scene(sc: Scenario) -> Scene:
     r = sc.robot
     walker = r.type == "walker"
     scene = Scene(sc, spec, water, tether_from(sc), makeup_from(sc), winch_from(sc), ship, slope, slope_heading,
-                  walker, math.radians(r.heading_deg) if walker else None)
+                  walker, math.radians(r.heading_deg) if r.type in ("walker", "vehicle") else None)
     if walker:
         add_walker(scene)
+    elif r.type == "vehicle":
+        scene.vehicle = load_vehicle(r.vehicle)
+        scene.bodies.append(build_vehicle(spec, scene.vehicle, VEHICLE, pos=r.position))
     return scene
+
+
+def vehicle_quat(heading: float) -> np.ndarray:
+    """The quaternion (w, x, y, z) of a level vehicle facing ``heading`` (rad)."""
+    return np.array([math.cos(heading / 2), 0.0, 0.0, math.sin(heading / 2)])
+
+
+def vehicle_tow_point(scene: Scene) -> np.ndarray:
+    """A vehicle's tow point at the start (m, world): its origin at robot.position, level, at
+    the start heading."""
+    R = np.zeros(9)
+    mujoco.mju_quat2Mat(R, vehicle_quat(scene.heading))
+    return np.asarray(scene.sc.robot.position, dtype=float) + R.reshape(3, 3) @ np.asarray(scene.vehicle.tow_point)
 
 
 def add_walker(scene: Scene) -> None:

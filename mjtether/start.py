@@ -248,6 +248,8 @@ def preroll(run, settle: bool) -> None:
         for _ in range(max(1, int(round(PREROLL_S / dt))) * sub):
             if gait is not None:
                 gait.drive(dt / sub, 0.0, 0.0)
+            if run.pilot is not None:  # a vehicle holds its first setpoint
+                run.pilot.update(run, 0.0, dt / sub)
             sim.step()
     finally:
         m.opt.timestep = dt

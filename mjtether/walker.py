@@ -15,28 +15,18 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from importlib.resources import files
 from pathlib import Path
 
 import mujoco
 import numpy as np
 
+from .packagedata import asset_dir
 from .rigidbody import RigidBodyHydro
 
 
 def _assets() -> Path:
-    """The folder of the walker's MJCF files: ``mjtether/assets/walker`` of an installed wheel
-    (real files, as MjSpec.from_file needs), else ``assets/walker`` of the source tree. The
-    latter serves editable installs: setuptools' editable finder cannot import ``mjtether.assets``
-    because the folder has no ``__init__.py``."""
-    try:
-        return Path(str(files("mjtether.assets") / "walker"))
-    except ModuleNotFoundError:
-        src = Path(__file__).resolve().parents[1] / "assets" / "walker"
-        if (src / "walker.xml").is_file():
-            return src
-        raise FileNotFoundError("mjtether: the walker MJCF (package data mjtether.assets) is not installed; "
-                                "reinstall mjtether") from None
+    """The folder of the walker's MJCF files (``packagedata.asset_dir``)."""
+    return asset_dir("walker", "walker.xml")
 
 
 ASSETS = _assets()

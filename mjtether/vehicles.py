@@ -1,0 +1,149 @@
+"""Vehicle parameter files: a vehicle's rigid body, hydrodynamics, thrusters, tow point and
+autopilot gains in one TOML file, every number with its source. The shipped ones live in
+``assets/vehicles`` (installed as ``mjtether.assets.vehicles``); ``load_vehicle`` takes a shipped
+name or a path.
+
+The file's tables (units SI; body frame x forward, y left, z up; see ``vehicle`` and ``thruster``)::
+
+    [vehicle]      name, mass, inertia, centre_of_gravity, size (drawn ellipsoid semi-axes),
+                   tow_point, sources (a table: parameter -> where it comes from)
+    [hydro]        volume, centre_of_buoyancy, added_mass, linear_damping, quadratic_damping
+    [[thrusters]]  name, position, direction, max_forward, max_reverse, time_constant
+    [autopilot]    speed_kp, speed_ki, heading_kp, heading_kd, heading_ki, depth_kp, depth_kd, depth_ki
+"""
+
+from __future__ import annotations
+
+import math
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import mujoco
+import numpy as np
+
+from .packagedata import asset_dir
+from .thruster import Thruster, add_thruster
+from .vehicle import VehicleHydro, VehicleModel, add_vehicle
+
+KEYS = {
+    "vehicle": {"name", "mass", "inertia", "centre_of_gravity", "size", "tow_point", "sources"},
+    "hydro": {"volume", "centre_of_buoyancy", "added_mass", "linear_damping", "quadratic_damping"},
+    "thrusters": {"name", "position", "direction", "max_forward", "max_reverse", "time_constant"},
+    "autopilot": {"speed_kp", "speed_ki", "heading_kp", "heading_kd", "heading_ki", "depth_kp", "depth_kd",
+                  "depth_ki"},
+}
+
+
+@dataclass(frozen=True)
+class Autopilot:
+    """Gains of the speed, heading and depth loops (``controllers.VehiclePilot``): surge force
+    X = kp e_u + ki int(e_u) (N per m/s, N per m); yaw moment N = kp e_psi - kd r + ki int(e_psi)
+    (N m per rad, N m s, N m per rad s); vertical force (world) Z = kp e_z - kd w + ki int(e_z)
+    (N per m, N s/m, N per m s)."""
+
+    speed_kp: float = 0.0
+    speed_ki: float = 0.0
+    heading_kp: float = 0.0
+    heading_kd: float = 0.0
+    heading_ki: float = 0.0
+    depth_kp: float = 0.0
+    depth_kd: float = 0.0
+    depth_ki: float = 0.0
+
+
+@dataclass(frozen=True)
+class VehicleSpec:
+    """A vehicle file's contents (see the module docstring)."""
+
+    name: str
+    mass: float
+    inertia: tuple
+    centre_of_gravity: tuple
+    size: tuple
+    tow_point: tuple
+    hydro: VehicleHydro
+    thrusters: tuple = ()
+    autopilot: Autopilot = field(default_factory=Autopilot)
+    sources: dict = field(default_factory=dict)
+    path: str = ""
+
+    @property
+    def weight(self) -> float:
+        """In air (N), at standard gravity."""
+        return self.mass * 9.80665
+
+
+def shipped() -> list[str]:
+    """Names of the vehicles shipped in ``assets/vehicles``."""
+    return sorted(p.stem for p in asset_dir("vehicles", "README.md").glob("*.toml"))
+
+
+def load_vehicle(name_or_path) -> VehicleSpec:
+    """A shipped vehicle by name (``shipped()``) or a vehicle file by path; errors name the
+    file and the key."""
+    p = Path(str(name_or_path))
+    if p.suffix != ".toml":
+        if str(name_or_path) not in shipped():
+            raise ValueError(f"vehicle {name_or_path!r}: not a shipped vehicle ({', '.join(shipped())}) "
+                             "nor a .toml file")
+        p = asset_dir("vehicles", "README.md") / f"{name_or_path}.toml"
+    if not p.is_file():
+        raise ValueError(f"vehicle file {p}: no such file")
+    try:
+        tree = tomllib.loads(p.read_text())
+    except tomllib.TOMLDecodeError as exc:
+        raise ValueError(f"vehicle file {p}: {exc}") from None
+    where = p.name
+    for table, keys in KEYS.items():
+        items = tree.get(table, [] if table == "thrusters" else {})
+        for k, item in enumerate(items if table == "thrusters" else [items]):
+            label = f"{table}[{k}]" if table == "thrusters" else table
+            unknown = sorted(set(item) - keys)
+            if unknown:
+                raise ValueError(f"{where}: unknown key {label}.{unknown[0]}; allowed: {', '.join(sorted(keys))}")
+    unknown = sorted(set(tree) - set(KEYS))
+    if unknown:
+        raise ValueError(f"{where}: unknown table [{unknown[0]}]; allowed: {', '.join(KEYS)}")
+    v, h = tree.get("vehicle", {}), tree.get("hydro", {})
+    for table, item, key in (("vehicle", v, "mass"), ("vehicle", v, "inertia"), ("hydro", h, "volume")):
+        if key not in item:
+            raise ValueError(f"{where}: {table}.{key} is required")
+    try:
+        hydro = VehicleHydro(volume=h["volume"], centre_of_buoyancy=h.get("centre_of_buoyancy", (0.0, 0.0, 0.0)),
+                             added_mass=h.get("added_mass", np.zeros(6)),
+                             linear_damping=h.get("linear_damping", np.zeros(6)),
+                             quadratic_damping=h.get("quadratic_damping", np.zeros(6)))
+        thrusters = tuple(Thruster(**t) for t in tree.get("thrusters", []))
+        autopilot = Autopilot(**tree.get("autopilot", {}))
+    except (TypeError, ValueError) as exc:
+        raise ValueError(f"{where}: {exc}") from None
+    if not (isinstance(v["mass"], (int, float)) and v["mass"] > 0):
+        raise ValueError(f"{where}: vehicle.mass must be > 0 kg, got {v['mass']!r}")
+    return VehicleSpec(name=str(v.get("name", p.stem)), mass=float(v["mass"]), inertia=tuple(v["inertia"]),
+                       centre_of_gravity=tuple(v.get("centre_of_gravity", (0.0, 0.0, 0.0))),
+                       size=tuple(v.get("size", (0.5, 0.2, 0.2))), tow_point=tuple(v.get("tow_point", (0.0, 0.0, 0.0))),
+                       hydro=hydro, thrusters=thrusters, autopilot=autopilot, sources=dict(v.get("sources", {})),
+                       path=str(p))
+
+
+def build_vehicle(spec: mujoco.MjSpec, vs: VehicleSpec, name: str = "vehicle", pos=(0.0, 0.0, 0.0)) -> VehicleModel:
+    """Add ``vs`` to ``spec`` as body ``name`` at ``pos`` (m, world): its body, thrusters
+    (actuators ``{name}/{thruster}``) and tow point site ``{name}/tow_point``."""
+    vm = add_vehicle(spec, name, mass=vs.mass, inertia=vs.inertia, hydro=vs.hydro,
+                     centre_of_gravity=vs.centre_of_gravity, pos=pos, size=vs.size)
+    spec.body(name).add_site(name=f"{name}/tow_point", pos=list(vs.tow_point), size=[0.02, 0.0, 0.0])
+    for th in vs.thrusters:
+        add_thruster(spec, name, th)
+    return vm
+
+
+def thrust_matrix(thrusters) -> np.ndarray:
+    """The thrust configuration matrix (6 x n): thruster k's unit thrust as a body-frame wrench
+    about the origin, [d_k; r_k x d_k]."""
+    return np.array([[*t.direction, *np.cross(t.position, t.direction)] for t in thrusters]).T.reshape(6, -1)
+
+
+def heading_error(want: float, have: float) -> float:
+    """want - have (rad), wrapped to [-pi, pi)."""
+    return (want - have + math.pi) % (2 * math.pi) - math.pi
