@@ -143,6 +143,14 @@ class GaitDrive:
 
 PILOT_HZ = 20.0
 """Rate (Hz) at which a vehicle's autopilot updates its thrusters' commands."""
+PILOT_BANDS = (math.inf, 0.5, 1.0)
+"""Largest speed (m/s), heading (rad) and depth (m) error the autopilot's proportional terms
+see, and beyond which its integrals stop (conditional integration against wind-up): a large
+heading or depth step is flown at the moment and force these give, not at one that saturates
+every thruster (a speed beyond the vehicle's is asked for in full: its thrusters saturate)."""
+MOMENT_WEIGHT = 10.0
+"""Weight (1/m) of the moments against the forces in the thrust allocation's least squares: when
+the thrusters cannot give everything, attitude is kept before a force is met."""
 
 
 class VehiclePilot:
@@ -152,8 +160,8 @@ class VehiclePilot:
     ``setpoints``: rows of (time s, surge speed m/s, heading rad, depth m), each held until the
     next. At PILOT_HZ: a surge force from the speed error (PI), a yaw moment from the heading
     error (PID, on the yaw rate), a world-vertical force from the depth error (PID, on the
-    vertical speed); the wrench [X + Z_body, Z_body, ..., N] is met as closely as the thrusters'
-    limits allow (bounded least squares, scipy's ``lsq_linear``), each thruster's command being
+    vertical speed), roll and pitch moments towards level (PD), each error clipped to
+    ``PILOT_BANDS``; the wrench is met as closely as the thrusters' limits allow, moments first (bounded least squares, scipy's ``lsq_linear``), each thruster's command being
     the thrust wanted (N), which its actuator lags and clips."""
 
     def __init__(self, setpoints: np.ndarray, gains, thrusters, actuators: np.ndarray):
@@ -187,12 +195,19 @@ class VehiclePilot:
         nu, R = run.vehicle.velocity(run.sim.data)
         e = np.array([speed - nu[0], heading_error(heading, math.atan2(R[1, 0], R[0, 0])),
                       -depth - float(run.sim.data.xpos[run.vehicle.id][2])])
-        self._i += e * h
+        band = np.array(PILOT_BANDS)
+        self._i += np.where(np.abs(e) < band, e, 0.0) * h
+        e = np.clip(e, -band, band)
         w = float((R @ nu[:3])[2])
         X = g.speed_kp * e[0] + g.speed_ki * self._i[0]
         N = g.heading_kp * e[1] - g.heading_kd * nu[5] + g.heading_ki * self._i[1]
         Z = g.depth_kp * e[2] - g.depth_kd * w + g.depth_ki * self._i[2]
         f = R.T @ np.array([0.0, 0.0, Z])
-        self.wrench = np.array([X + f[0], f[1], f[2], 0.0, 0.0, N])
+        roll, pitch = math.atan2(R[2, 1], R[2, 2]), math.asin(max(-1.0, min(1.0, -R[2, 0])))
+        K = -g.roll_kp * roll - g.roll_kd * nu[3]
+        M = -g.pitch_kp * pitch - g.pitch_kd * nu[4]
+        self.wrench = np.array([X + f[0], f[1], f[2], K, M, N])
         if self.B.shape[1]:
-            run.sim.data.ctrl[self.actuators] = lsq_linear(self.B, self.wrench, bounds=(self.lo, self.hi)).x
+            w = np.r_[1.0, 1.0, 1.0, MOMENT_WEIGHT, MOMENT_WEIGHT, MOMENT_WEIGHT]
+            run.sim.data.ctrl[self.actuators] = lsq_linear(w[:, None] * self.B, w * self.wrench,
+                                                           bounds=(self.lo, self.hi)).x

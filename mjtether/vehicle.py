@@ -32,7 +32,7 @@ import mujoco
 import numpy as np
 
 from . import _checks
-from .fossen import damping_force, m2c, restoring_force
+from .fossen import cross, damping_force, m2c, restoring_force
 from .rigidbody import make_not_simple
 
 
@@ -158,22 +158,23 @@ class BoundVehicle:
         """(nu (6,), body frame: linear velocity of the origin and angular velocity; R body to
         world)."""
         R = data.xmat[self.id].reshape(3, 3)
-        return np.r_[R.T @ data.qvel[self._v], data.qvel[self._w]], R
+        return np.concatenate([R.T @ data.qvel[self._v], data.qvel[self._w]]), R
 
     def wrench(self, model, data) -> np.ndarray:
         """The hydrodynamic wrench (body frame, about the origin) MuJoCo does not make itself."""
         nu, R = self.velocity(data)
         z = np.array([min(float(data.xpos[self.id][2]), 0.0)])
-        nu_c = np.r_[R.T @ self.water.velocity(z)[0], 0.0, 0.0, 0.0]
+        nu_c = np.zeros(6)
+        nu_c[:3] = R.T @ self.water.velocity(z)[0]
         nu_r = nu - nu_c
         h = self.hydro
         MA = h.added_mass
         tau = -(m2c(MA, nu_r) @ nu_r) - damping_force(nu_r, h.linear_damping, h.quadratic_damping)
-        tau[:3] += self._M_lin @ np.cross(nu[3:], nu_r[:3])
+        tau[:3] += self._M_lin @ cross(nu[3:], nu_r[:3])
         B = float(self.water.rho(z)[0]) * self.water.gravity * h.volume
         tau -= restoring_force(R, 0.0, B, np.zeros(3), self._r_b)  # the buoyancy (MuJoCo weighs it)
         if self._has_explicit:  # the rest of M_A nu', from the last step's acceleration
-            a = np.r_[R.T @ data.qacc[self._v] - np.cross(nu[3:], nu[:3]), data.qacc[self._w]]
+            a = np.concatenate([R.T @ data.qacc[self._v] - cross(nu[3:], nu[:3]), data.qacc[self._w]])
             tau -= self._explicit @ a
         return tau
 

@@ -9,7 +9,8 @@ The file's tables (units SI; body frame x forward, y left, z up; see ``vehicle``
                    tow_point, sources (a table: parameter -> where it comes from)
     [hydro]        volume, centre_of_buoyancy, added_mass, linear_damping, quadratic_damping
     [[thrusters]]  name, position, direction, max_forward, max_reverse, time_constant
-    [autopilot]    speed_kp, speed_ki, heading_kp, heading_kd, heading_ki, depth_kp, depth_kd, depth_ki
+    [autopilot]    speed_kp, speed_ki, heading_kp, heading_kd, heading_ki, depth_kp, depth_kd, depth_ki,
+                   roll_kp, roll_kd, pitch_kp, pitch_kd
 """
 
 from __future__ import annotations
@@ -31,7 +32,7 @@ KEYS = {
     "hydro": {"volume", "centre_of_buoyancy", "added_mass", "linear_damping", "quadratic_damping"},
     "thrusters": {"name", "position", "direction", "max_forward", "max_reverse", "time_constant"},
     "autopilot": {"speed_kp", "speed_ki", "heading_kp", "heading_kd", "heading_ki", "depth_kp", "depth_kd",
-                  "depth_ki"},
+                  "depth_ki", "roll_kp", "roll_kd", "pitch_kp", "pitch_kd"},
 }
 
 
@@ -40,7 +41,8 @@ class Autopilot:
     """Gains of the speed, heading and depth loops (``controllers.VehiclePilot``): surge force
     X = kp e_u + ki int(e_u) (N per m/s, N per m); yaw moment N = kp e_psi - kd r + ki int(e_psi)
     (N m per rad, N m s, N m per rad s); vertical force (world) Z = kp e_z - kd w + ki int(e_z)
-    (N per m, N s/m, N per m s)."""
+    (N per m, N s/m, N per m s); for a vehicle whose thrusters can (an ROV), level attitude:
+    K = -kp phi - kd p, M = -kp theta - kd q (N m per rad, N m s; 0: left to its restoring)."""
 
     speed_kp: float = 0.0
     speed_ki: float = 0.0
@@ -50,6 +52,10 @@ class Autopilot:
     depth_kp: float = 0.0
     depth_kd: float = 0.0
     depth_ki: float = 0.0
+    roll_kp: float = 0.0
+    roll_kd: float = 0.0
+    pitch_kp: float = 0.0
+    pitch_kd: float = 0.0
 
 
 @dataclass(frozen=True)

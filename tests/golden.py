@@ -11,6 +11,7 @@ and say which here:
 * one Morison kernel for the statics and the dynamics (``hydro.morison_drag``): the statics add
   a float's drag before the buoyancy, no longer after; the lazy-wave umbilical's start moved by
   rounding (largest change 5e-12 of the largest record value); nothing else changed.
+* the ROV example (``examples/rov_umbilical.toml``) added; every other run unchanged bit for bit.
 
     python tests/golden.py   # rewrites tests/data/golden_runs.npz
 """
@@ -71,6 +72,24 @@ def env_runs(steps: int = 20) -> dict[str, np.ndarray]:
     return out
 
 
+def machine() -> str:
+    """What the arithmetic depends on: the CPU (BLAS kernels are chosen by it) and the versions
+    of NumPy, SciPy, MuJoCo and numba."""
+    import platform
+
+    import mujoco
+    import numba
+    import scipy
+
+    cpu = platform.processor() or platform.machine()
+    try:
+        with open("/proc/cpuinfo") as f:
+            cpu = next((line.split(":", 1)[1].strip() for line in f if line.startswith("model name")), cpu)
+    except OSError:
+        pass
+    return f"{cpu} | numpy {np.__version__} | scipy {scipy.__version__} | mujoco {mujoco.__version__} | numba {numba.__version__}"
+
+
 if __name__ == "__main__":
-    np.savez_compressed(GOLDEN, **runs())
+    np.savez_compressed(GOLDEN, **runs(), _machine=np.array(machine()))
     print(f"wrote {GOLDEN}")

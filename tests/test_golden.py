@@ -2,17 +2,19 @@
 rows, nodes and tensions it gave before, and each environment the same observations and rewards
 (``tests/golden.py`` says when they were written and how).
 
-Tolerance: none (bitwise). The same operations in the same order give the same bits; this test
-is what shows that moving code between modules moved no arithmetic. It runs with the compiled
-kernels (numba's loops compile without fast-math, so their arithmetic does not depend on the
-CPU)."""
+Tolerance: none (bitwise) on the machine the golden runs were written on (the CPU model and
+the NumPy, SciPy, MuJoCo and numba versions, kept in the file): the same operations in the same
+order give the same bits, and this test is what shows that moving code between modules moved
+no arithmetic. Elsewhere BLAS picks other kernels by CPU and the last bits differ, so there the
+runs must agree to 1e-9 of each array's largest value (a trajectory's rounding grows over 2 s to
+about 1e-12; 1e-9 still catches any change of the physics). It runs with the compiled kernels."""
 
 import os
 
 import numpy as np
 import pytest
 
-from golden import ENVS, EXAMPLES, GOLDEN, runs
+from golden import ENVS, EXAMPLES, GOLDEN, machine, runs
 from mjtether import compiled
 
 pytestmark = pytest.mark.skipif(compiled.numba is None, reason="the golden runs were written with numba's kernels")
@@ -30,7 +32,7 @@ def now():
 
 def test_every_example_is_in_the_golden_file(now):
     with np.load(GOLDEN) as old:
-        assert sorted(old.files) == sorted(now)
+        assert sorted(f for f in old.files if f != "_machine") == sorted(now)
     assert len(now) == 3 * len(EXAMPLES) + 2 * len(ENVS) >= 28
 
 
@@ -45,6 +47,12 @@ def test_run_is_bitwise_the_same(now, name, parts):
             key = f"{name}/{part}"
             a, b = now[key], old[key]
             assert a.shape == b.shape, f"{key}: shape {a.shape}, was {b.shape}"
-            diff = np.flatnonzero(a.ravel() != b.ravel())
-            assert len(diff) == 0, (f"{key}: {len(diff)} of {a.size} values differ, the largest by "
-                                    f"{np.max(np.abs(a - b)):.3g}")
+            if str(old["_machine"]) == machine():
+                diff = np.flatnonzero(a.ravel() != b.ravel())
+                assert len(diff) == 0, (f"{key}: {len(diff)} of {a.size} values differ, the largest by "
+                                        f"{np.max(np.abs(a - b)):.3g}")
+            else:
+                scale = max(float(np.max(np.abs(b))), 1e-300)
+                assert np.max(np.abs(a - b)) <= 1e-9 * scale, (
+                    f"{key}: differs by {np.max(np.abs(a - b)) / scale:.3g} of its largest value (another "
+                    f"machine: {machine()!r}, written on {str(old['_machine'])!r})")

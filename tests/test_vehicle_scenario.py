@@ -100,3 +100,38 @@ def test_bad_vehicle_file_is_named(tmp_path):
     bad.write_text(ROV.read_text().replace("mass = 11.0", "mas = 11.0"))
     with pytest.raises(ValueError, match="bad.toml: unknown key vehicle.mas"):
         load_vehicle(bad)
+
+
+def test_bluerov2_top_speed_with_its_thrusters_saturated():
+    """The shipped BlueROV2 Heavy asked for 3 m/s (more than it can do) at 20 m, alone in still
+    water: its four horizontal T200s saturate (two forward at 51.4 N, two reversed at 39.9 N, at
+    45 degrees: X = 0.7071 (2 51.4 + 2 39.9) = 129.1 N) while the vertical ones hold depth and
+    trim, and it settles where its surge damping takes all of X: 13.7 u + 141 u^2 = 129.1 N,
+    u = 0.910 m/s (von Benzon et al. 2022's damping; their own 85 N of thrust gives 0.73 m/s,
+    their Table 4 0.72 m/s). Tolerance 1 %: the depth and pitch loops' small forces."""
+    from types import SimpleNamespace
+
+    import mujoco
+
+    import mjtether as mt
+    from mjtether.controllers import VehiclePilot
+    from mjtether.vehicles import build_vehicle
+
+    vs = load_vehicle("bluerov2_heavy")
+    water = mt.WaterColumn(depth=100.0)
+    spec = mujoco.MjSpec()
+    spec.option.timestep = 0.005
+    vm = build_vehicle(spec, vs, "vehicle", pos=(0.0, 0.0, -20.0))
+    with mt.Simulation(spec, water, bodies=[vm]) as sim:
+        acts = np.array([sim.model.actuator(f"vehicle/{t.name}").id for t in vs.thrusters])
+        pilot = VehiclePilot(np.array([[0.0, 3.0, 0.0, 20.0]]), vs.autopilot, vs.thrusters, acts)
+        run_like = SimpleNamespace(vehicle=sim.bodies[0], sim=sim)
+        speeds = []
+        for k in range(int(round(30.0 / 0.005))):
+            pilot.update(run_like, sim.time, 0.005)
+            sim.step()
+            if sim.time > 25.0:
+                speeds.append(sim.bodies[0].velocity(sim.data)[0][0])
+    X = 0.70711 * (2 * 51.4 + 2 * 39.9)
+    expected = (-13.7 + math.sqrt(13.7**2 + 4 * 141.0 * X)) / (2 * 141.0)
+    assert float(np.mean(speeds)) == pytest.approx(expected, rel=0.01)
