@@ -69,7 +69,8 @@ class ScenarioRun:
         how = sc.simulation.start
         if how == "settle" or (how == "auto" and self.initial is None):
             settle, self.initial = True, None
-            self.initial_note = "settled with the robot held" + (
+            held = "on its autopilot" if self.is_vehicle else "held"
+            self.initial_note = f"settled with the robot {held}" + (
                 "" if how == "settle" else f" (no steady state: {self.initial_note})")
         elif self.initial is None:
             raise RunFailed(f"no consistent start: {self.initial_note}; set simulation.start = \"settle\" to let "

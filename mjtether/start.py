@@ -196,7 +196,9 @@ def arc_lengths(scene: Scene, length: float) -> np.ndarray:
 def fallback_nodes(scene: Scene, top, robot) -> np.ndarray:
     """A start that stays above the seabed when there is no steady state: the cable hangs
     straight down from the ship to the seabed, then runs along it to the tow point, with any
-    excess length laid as a sideways detour (a slack tether coils on the bottom)."""
+    excess length laid as a sideways detour (a slack tether coils on the bottom). A cable too
+    short for that path (a tow point high above the seabed: a vehicle, an anchor in mid-water)
+    hangs as a V from the ship to the tow point instead, as deep as its length allows."""
     L = scene.line.length
     lift = scene.end_diameter / 2 / math.cos(scene.slope)  # the cable's axis over the seabed
 
@@ -212,6 +214,20 @@ def fallback_nodes(scene: Scene, top, robot) -> np.ndarray:
         else np.array([0.0, 1.0, 0.0])
     detour = [on_floor(a + side * excess / 2), on_floor(b + side * excess / 2)] if excess > 0 else []
     pts = np.array([top, a, *detour, b, robot])
+    if excess < 0:  # a V whose two legs are L long together, its low point under the chord's middle
+        mid = 0.5 * (np.asarray(top, float) + np.asarray(robot, float))
+
+        def v_length(h):
+            low = mid - (0.0, 0.0, h)
+            return float(np.linalg.norm(top - low) + np.linalg.norm(robot - low))
+
+        h_lo, h_hi = 0.0, max(L, 1e-9)
+        for _ in range(60):  # bisection: the V's length grows with its depth
+            h = 0.5 * (h_lo + h_hi)
+            h_lo, h_hi = (h, h_hi) if v_length(h) < L else (h_lo, h)
+        low = mid - (0.0, 0.0, h_lo)
+        low[2] = max(low[2], float(on_floor(low)[2]))
+        pts = np.array([top, low, robot])
     seg = np.linalg.norm(np.diff(pts, axis=0), axis=1)
     s = np.r_[0.0, np.cumsum(seg)]
     u = arc_lengths(scene, L) * (s[-1] / L)
@@ -222,8 +238,8 @@ def preroll(run, settle: bool) -> None:
     """Put the walker in its standing pose, then pre-roll ``run`` (a ``runner.ScenarioRun``):
     soft contacts carry the laid cable's (and the walker's) weight only once they are pressed
     in; PREROLL_S of standing still lets them load, then t is reset to 0. A settling start is
-    far from equilibrium: it settles for SETTLE_S with finer steps, the walker held, then
-    PREROLL_S released. The ship and the winch do not move."""
+    far from equilibrium: it settles for SETTLE_S with finer steps, the walker held (a vehicle
+    flying its first setpoint), then PREROLL_S released. The ship and the winch do not move."""
     sim = run.sim
     m, dt = sim.model, sim.model.opt.timestep
     gait = run.gait_drive
@@ -238,10 +254,12 @@ def preroll(run, settle: bool) -> None:
     sub = 1 if not settle else FALLBACK_SUBSTEPS
     m.opt.timestep = dt / sub
     try:
-        if settle:
+        if settle:  # (a vehicle flies its first setpoint meanwhile: it is not held in place)
             for _ in range(max(1, int(round(SETTLE_S / dt))) * sub):
                 if gait is not None:
                     gait.drive(dt / sub, 0.0, 0.0)
+                if run.pilot is not None:
+                    run.pilot.update(run, 0.0, dt / sub)
                 sim.step()
             if gait is not None:
                 sim.data.eq_active[m.equality("walker/hold").id] = 0

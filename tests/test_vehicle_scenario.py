@@ -135,3 +135,16 @@ def test_bluerov2_top_speed_with_its_thrusters_saturated():
     X = 0.70711 * (2 * 51.4 + 2 * 39.9)
     expected = (-13.7 + math.sqrt(13.7**2 + 4 * 141.0 * X)) / (2 * 141.0)
     assert float(np.mean(speeds)) == pytest.approx(expected, rel=0.01)
+
+
+def test_vehicle_settling_start_flies_its_first_setpoint():
+    """start = "settle": the cable falls from a guessed shape while the vehicle holds its first
+    setpoint on its autopilot (it is not welded in place); the run then goes on as usual."""
+    r = ScenarioRun(load_scenario(text=SCENARIO, overrides=['simulation.start="settle"']))
+    try:
+        assert r.initial is None and r.initial_note == "settled with the robot on its autopilot"
+        depth = -float(r.sim.data.xpos[r.named.torso][2])
+        assert abs(depth - 15.0) < 0.5 and r.sim.time == 0.0
+        r.step()
+    finally:
+        r.close()
