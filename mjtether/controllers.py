@@ -14,7 +14,9 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
+from scipy.optimize import lsq_linear
 
+from .vehicles import heading_error, thrust_matrix
 from .walker import Tripod
 
 WALK_ACCEL = 0.2
@@ -157,16 +159,15 @@ class VehiclePilot:
     """Speed, heading and depth autopilot of a vehicle (gains: ``vehicles.Autopilot``), and the
     allocation of the wrench it asks for to the thrusters.
 
-    ``setpoints``: rows of (time s, surge speed m/s, heading rad, depth m), each held until the
-    next. At PILOT_HZ: a surge force from the speed error (PI), a yaw moment from the heading
-    error (PID, on the yaw rate), a world-vertical force from the depth error (PID, on the
-    vertical speed), roll and pitch moments towards level (PD), each error clipped to
-    ``PILOT_BANDS``; the wrench is met as closely as the thrusters' limits allow, moments first (bounded least squares, scipy's ``lsq_linear``), each thruster's command being
-    the thrust wanted (N), which its actuator lags and clips."""
+    ``setpoints``: rows of (time s, surge speed over ground m/s, heading rad, depth m), each held
+    until the next. At PILOT_HZ: a surge force from the speed error (PI), a yaw moment from the
+    heading error (PID, on the yaw rate), a world-vertical force from the depth error (PID, on
+    the vertical speed), roll and pitch moments towards level (PD), each error clipped to
+    ``PILOT_BANDS``; the wrench is met as closely as the thrusters' limits allow, moments first
+    (bounded least squares, scipy's ``lsq_linear``), each thruster's command being the thrust
+    wanted (N), which its actuator lags and clips."""
 
     def __init__(self, setpoints: np.ndarray, gains, thrusters, actuators: np.ndarray):
-        from .vehicles import thrust_matrix
-
         self.setpoints = setpoints
         self.gains = gains
         self.B = thrust_matrix(thrusters)
@@ -182,10 +183,6 @@ class VehiclePilot:
         return tuple(float(x) for x in self.setpoints[k, 1:])
 
     def update(self, run, t: float, dt: float) -> None:
-        from scipy.optimize import lsq_linear
-
-        from .vehicles import heading_error
-
         self._since += dt
         if self._since < 1.0 / PILOT_HZ - 1e-9:
             return
