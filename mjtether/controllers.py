@@ -175,6 +175,11 @@ class VehiclePilot:
         self.hi = np.array([t.max_forward for t in thrusters])
         self.actuators = actuators
         self._i = np.zeros(3)  # integrals of the speed (m), heading (rad s) and depth (m s) errors
+        # the most each integral term may ask for: what all the thrusters give along surge, in
+        # yaw and along z together (an unreachable speed does not wind the integral up forever)
+        most = np.abs(self.B) @ np.maximum(self.hi, -self.lo) if self.B.shape[1] else np.zeros(6)
+        ki = np.array([gains.speed_ki, gains.heading_ki, gains.depth_ki])
+        self._i_max = np.where(ki > 0, most[[0, 5, 2]] / np.where(ki > 0, ki, 1.0), 0.0)
         self._since = 1.0 / PILOT_HZ  # the first call commands
         self.wrench = np.zeros(6)  # the wrench last asked for (N, N m; body frame)
 
@@ -193,7 +198,7 @@ class VehiclePilot:
         e = np.array([speed - nu[0], heading_error(heading, math.atan2(R[1, 0], R[0, 0])),
                       -depth - float(run.sim.data.xpos[run.vehicle.id][2])])
         band = np.array(PILOT_BANDS)
-        self._i += np.where(np.abs(e) < band, e, 0.0) * h
+        self._i = np.clip(self._i + np.where(np.abs(e) < band, e, 0.0) * h, -self._i_max, self._i_max)
         e = np.clip(e, -band, band)
         w = float((R @ nu[:3])[2])
         X = g.speed_kp * e[0] + g.speed_ki * self._i[0]
