@@ -182,6 +182,9 @@ class VehiclePilot:
         self._i_max = np.where(ki > 0, most[[0, 5, 2]] / np.where(ki > 0, ki, 1.0), 0.0)
         self._since = 1.0 / PILOT_HZ  # the first call commands
         self.wrench = np.zeros(6)  # the wrench last asked for (N, N m; body frame)
+        self._w = np.r_[1.0, 1.0, 1.0, MOMENT_WEIGHT, MOMENT_WEIGHT, MOMENT_WEIGHT]
+        self._WB = self._w[:, None] * self.B
+        self._pinv = np.linalg.pinv(self._WB) if self.B.shape[1] else None  # the unbounded solution
 
     def setpoint(self, t: float) -> tuple[float, float, float]:
         k = int(np.searchsorted(self.setpoints[:, 0], t, side="right")) - 1
@@ -210,6 +213,9 @@ class VehiclePilot:
         M = -g.pitch_kp * pitch - g.pitch_kd * nu[4]
         self.wrench = np.array([X + f[0], f[1], f[2], K, M, N])
         if self.B.shape[1]:
-            w = np.r_[1.0, 1.0, 1.0, MOMENT_WEIGHT, MOMENT_WEIGHT, MOMENT_WEIGHT]
-            run.sim.data.ctrl[self.actuators] = lsq_linear(w[:, None] * self.B, w * self.wrench,
-                                                           bounds=(self.lo, self.hi)).x
+            target = self._w * self.wrench
+            x = self._pinv @ target  # the least-squares answer of least thrust: if within the limits (the
+            # usual case), it solves the bounded problem too
+            if np.any(x < self.lo) or np.any(x > self.hi):
+                x = lsq_linear(self._WB, target, bounds=(self.lo, self.hi)).x
+            run.sim.data.ctrl[self.actuators] = x

@@ -2,7 +2,7 @@
 with seabed contact), on one core, without writing results. The wall time counts everything a
 run does: building the model, the quasi-static start, the pre-roll, stepping and recording.
 
-    python scripts/bench_scenario.py [SCENARIO.toml] [--duration 60] [--check] [--json]
+    python scripts/bench_scenario.py [SCENARIO.toml] [--duration 60] [--segments N] [--check] [--json]
 
 ``--check`` runs the scenario again with the time step divided by ``--refine`` (default 2) and
 reports how far the answers a user reads move: the mean ship-end and
@@ -24,8 +24,9 @@ from mjtether.scenario import load_scenario
 COL = {name: k for k, (name, _, _) in enumerate(RECORD_FIELDS)}
 
 
-def _run(path: str, duration: float, timestep: float | None = None):
-    sets = [f"simulation.duration={duration!r}"] + ([f"simulation.timestep={timestep!r}"] if timestep else [])
+def _run(path: str, duration: float, timestep: float | None = None, segments: int | None = None):
+    sets = [f"simulation.duration={duration!r}"] + ([f"simulation.timestep={timestep!r}"] if timestep else []) \
+        + ([f"tether.segments={segments}"] if segments else [])
     sc = load_scenario(path, overrides=sets)
     rows, _, info = run(sc, keep_nodes=False)
     return sc, rows, info
@@ -45,15 +46,17 @@ def main(argv=None):
     ap.add_argument("--duration", type=float, default=60.0, help="simulated seconds (default 60)")
     ap.add_argument("--check", action="store_true", help="rerun at a finer time step and compare")
     ap.add_argument("--refine", type=float, default=2, help="time-step divisor of --check (default 2)")
+    ap.add_argument("--segments", type=int, default=None,
+                    help="tether segments instead of the scenario's (e.g. 200 for examples/rov_umbilical.toml)")
     ap.add_argument("--json", action="store_true")
     args = ap.parse_args(argv)
-    sc, rows, info = _run(args.scenario, args.duration)
+    sc, rows, info = _run(args.scenario, args.duration, segments=args.segments)
     dt = sc.simulation.timestep
     out = {"scenario": args.scenario, "segments": sc.tether.segments, "timestep": dt,
            "simulated_s": info["simulated_s"], "wall_s": round(info["wall_time_s"], 2),
            "realtime_factor": round(info["realtime_factor"], 2)}
     if args.check:
-        _, fine, _ = _run(args.scenario, args.duration, dt / args.refine)
+        _, fine, _ = _run(args.scenario, args.duration, dt / args.refine, segments=args.segments)
         a, b = _answers(rows), _answers(fine)
         out["check"] = {
             "fine_timestep": dt / args.refine,

@@ -12,6 +12,8 @@ and say which here:
   a float's drag before the buoyancy, no longer after; the lazy-wave umbilical's start moved by
   rounding (largest change 5e-12 of the largest record value); nothing else changed.
 * the ROV example (``examples/rov_umbilical.toml``) added; every other run unchanged bit for bit.
+* the ROV autopilot's allocation takes the least-thrust least-squares answer where it is within
+  the thrusters' limits (before: scipy's bounded solver every time): the ROV example changed.
 
     python tests/golden.py   # rewrites tests/data/golden_runs.npz
 """
