@@ -167,8 +167,14 @@ class VehiclePilot:
     (bounded least squares, scipy's ``lsq_linear``), each thruster's command being the thrust
     wanted (N), which its actuator lags and clips."""
 
-    def __init__(self, setpoints: np.ndarray, gains, thrusters, actuators: np.ndarray):
+    def __init__(self, setpoints: np.ndarray, gains, thrusters, actuators: np.ndarray, route=None,
+                 start=(0.0, 0.0), lookahead: float = 5.0, acceptance_radius: float = 2.0):
         self.setpoints = setpoints
+        self.route = None if route is None else np.asarray(route, dtype=float)  # rows x, y, depth, speed
+        self.lookahead, self.acceptance_radius = float(lookahead), float(acceptance_radius)
+        self._leg = 0  # the route's waypoint being steered to
+        self._from = np.asarray(start, dtype=float)[:2].copy()  # where the leg starts (m)
+        self.station = None  # (x, y, depth, heading) held once the last waypoint is reached
         self.gains = gains
         self.B = thrust_matrix(thrusters)
         self.lo = np.array([-t.max_reverse for t in thrusters])
@@ -190,14 +196,36 @@ class VehiclePilot:
         k = int(np.searchsorted(self.setpoints[:, 0], t, side="right")) - 1
         return tuple(float(x) for x in self.setpoints[k, 1:])
 
+    def guide(self, p: np.ndarray, heading: float) -> tuple[float, float, float]:
+        """Line-of-sight guidance along the route (Fossen 2021, Sec. 12.3: lookahead-based
+        steering): (speed m/s, heading rad, depth m) for the vehicle at ``p`` (m, world); the
+        heading aims ``lookahead`` metres down the leg from the vehicle's foot on it. A waypoint
+        within ``acceptance_radius`` (horizontally) is passed; at the last one the vehicle holds
+        station (``station``)."""
+        wp = self.route
+        while self.station is None and math.hypot(*(wp[self._leg, :2] - p[:2])) < self.acceptance_radius:
+            if self._leg == len(wp) - 1:
+                self.station = (float(wp[-1, 0]), float(wp[-1, 1]), float(wp[-1, 2]), heading)
+            else:
+                self._from = wp[self._leg, :2].copy()
+                self._leg += 1
+        if self.station is not None:
+            return 0.0, self.station[3], self.station[2]
+        a, b = self._from, wp[self._leg, :2]
+        path = math.atan2(b[1] - a[1], b[0] - a[0])
+        cross = -(p[0] - a[0]) * math.sin(path) + (p[1] - a[1]) * math.cos(path)  # left of the leg: > 0
+        return float(wp[self._leg, 3]), path - math.atan(cross / self.lookahead), float(wp[self._leg, 2])
+
     def update(self, run, t: float, dt: float) -> None:
         self._since += dt
         if self._since < 1.0 / PILOT_HZ - 1e-9:
             return
         h, self._since = self._since, 0.0
         g = self.gains
-        speed, heading, depth = self.setpoint(t)
         nu, R = run.vehicle.velocity(run.sim.data)
+        p = run.sim.data.xpos[run.vehicle.id]
+        yaw = math.atan2(R[1, 0], R[0, 0])
+        speed, heading, depth = self.setpoint(t) if self.route is None else self.guide(p, yaw)
         e = np.array([speed - nu[0], heading_error(heading, math.atan2(R[1, 0], R[0, 0])),
                       -depth - float(run.sim.data.xpos[run.vehicle.id][2])])
         band = np.array(PILOT_BANDS)
@@ -212,6 +240,11 @@ class VehiclePilot:
         K = -g.roll_kp * roll - g.roll_kd * nu[3]
         M = -g.pitch_kp * pitch - g.pitch_kd * nu[4]
         self.wrench = np.array([X + f[0], f[1], f[2], K, M, N])
+        if self.station is not None:  # hold the last waypoint: a horizontal PD on the position error
+            ex, ey = self.station[0] - float(p[0]), self.station[1] - float(p[1])
+            c, s = math.cos(yaw), math.sin(yaw)
+            self.wrench[0] = f[0] + g.station_kp * (c * ex + s * ey) - g.station_kd * nu[0]
+            self.wrench[1] = f[1] + g.station_kp * (-s * ex + c * ey) - g.station_kd * nu[1]
         if self.B.shape[1]:
             target = self._w * self.wrench
             x = self._pinv @ target  # the least-squares answer of least thrust: if within the limits (the

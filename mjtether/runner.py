@@ -99,7 +99,10 @@ class ScenarioRun:
                 vs, sp = scene.vehicle, np.array(sc.robot.setpoints, dtype=float)
                 sp[:, 2] = np.radians(sp[:, 2])
                 acts = np.array([m.actuator(f"{VEHICLE}/{t.name}").id for t in vs.thrusters], dtype=int)
-                self.pilot = VehiclePilot(sp, vs.autopilot, vs.thrusters, acts)
+                r = sc.robot
+                self.pilot = VehiclePilot(sp, vs.autopilot, vs.thrusters, acts, route=r.waypoints,
+                                          start=r.position, lookahead=r.lookahead,
+                                          acceptance_radius=r.acceptance_radius)
             if self.initial is not None:  # the steady state's seabed friction, carried into the run
                 self.sim.tether().preload_friction(self.sim.data, self.initial.tension)
             self.bt = self.sim.tether()

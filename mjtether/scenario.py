@@ -369,6 +369,13 @@ class Robot(Section):
                              "schedule of [time, surge speed, heading, depth], each held until the next",
                              kind="rows4")
 
+    waypoints: tuple | None = param(None, -1e6, 1e6, "m, m, m, m/s", "vehicle: instead of setpoints, a route of "
+                                    "[x, y, depth, speed] rows flown by line-of-sight guidance from the start; the "
+                                    "vehicle holds station at the last one", kind="rows4", optional=True)
+    lookahead: float = param(5.0, 0.1, 1e4, "m", "vehicle: line-of-sight lookahead distance along the route")
+    acceptance_radius: float = param(2.0, 0.01, 1e4, "m", "vehicle: a waypoint is reached within this horizontal "
+                                     "distance")
+
     def _check(self):
         if self.type in ("anchor", "vehicle") and self.position is None:
             raise ConfigError(f"robot.position is required for {'an anchor' if self.type == 'anchor' else 'a vehicle'}"
@@ -381,6 +388,8 @@ class Robot(Section):
                 self._bad("setpoints", "the times (first column, s) must start at 0 and increase")
             if any(s[3] < 0.0 for s in self.setpoints):
                 self._bad("setpoints", "depths (last column) are below the surface: give them >= 0 m")
+            if self.waypoints is not None and any(w[2] < 0.0 or w[3] < 0.0 for w in self.waypoints):
+                self._bad("waypoints", "depths (third column) and speeds (fourth) must be >= 0")
             from .vehicles import load_vehicle
             try:
                 load_vehicle(self.vehicle)

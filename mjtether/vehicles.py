@@ -10,7 +10,7 @@ The file's tables (units SI; body frame x forward, y left, z up; see ``vehicle``
     [hydro]        volume, centre_of_buoyancy, added_mass, linear_damping, quadratic_damping
     [[thrusters]]  name, position, direction, max_forward, max_reverse, time_constant
     [autopilot]    speed_kp, speed_ki, heading_kp, heading_kd, heading_ki, depth_kp, depth_kd, depth_ki,
-                   roll_kp, roll_kd, pitch_kp, pitch_kd
+                   roll_kp, roll_kd, pitch_kp, pitch_kd, station_kp, station_kd
 """
 
 from __future__ import annotations
@@ -32,7 +32,7 @@ KEYS = {
     "hydro": {"volume", "centre_of_buoyancy", "added_mass", "linear_damping", "quadratic_damping"},
     "thrusters": {"name", "position", "direction", "max_forward", "max_reverse", "time_constant"},
     "autopilot": {"speed_kp", "speed_ki", "heading_kp", "heading_kd", "heading_ki", "depth_kp", "depth_kd",
-                  "depth_ki", "roll_kp", "roll_kd", "pitch_kp", "pitch_kd"},
+                  "depth_ki", "roll_kp", "roll_kd", "pitch_kp", "pitch_kd", "station_kp", "station_kd"},
 }
 
 
@@ -42,7 +42,9 @@ class Autopilot:
     X = kp e_u + ki int(e_u) (N per m/s, N per m); yaw moment N = kp e_psi - kd r + ki int(e_psi)
     (N m per rad, N m s, N m per rad s); vertical force (world) Z = kp e_z - kd w + ki int(e_z)
     (N per m, N s/m, N per m s); for a vehicle whose thrusters can (an ROV), level attitude:
-    K = -kp phi - kd p, M = -kp theta - kd q (N m per rad, N m s; 0: left to its restoring)."""
+    K = -kp phi - kd p, M = -kp theta - kd q (N m per rad, N m s; 0: left to its restoring);
+    station keeping (an ROV): horizontal force kp e - kd v on the position error in the body frame
+    (N per m, N s/m)."""
 
     speed_kp: float = 0.0
     speed_ki: float = 0.0
@@ -56,6 +58,8 @@ class Autopilot:
     roll_kd: float = 0.0
     pitch_kp: float = 0.0
     pitch_kd: float = 0.0
+    station_kp: float = 0.0
+    station_kd: float = 0.0
 
 
 @dataclass(frozen=True)

@@ -148,3 +148,53 @@ def test_vehicle_settling_start_flies_its_first_setpoint():
         r.step()
     finally:
         r.close()
+
+
+ROUTE = """
+[simulation]
+duration = 100.0
+timestep = 0.005
+[water]
+depth = 80.0
+[tether]
+length = 80.0
+segments = 30
+diameter = 0.0076
+density = 1150.0
+EA = 2.0e5
+[winch]
+mode = "fixed"
+[robot]
+type = "vehicle"
+vehicle = "bluerov2_heavy"
+position = [10.0, 1.0, -20.0]
+waypoints = [[30.0, 0.0, 20.0, 0.5], [30.0, 20.0, 25.0, 0.5]]
+"""
+
+
+def test_line_of_sight_route_then_station_keeping():
+    """The BlueROV2 starts 1 m off the first leg (from its start towards (30, 0)), follows the
+    route by line-of-sight guidance in still water and holds station at the last waypoint with
+    the umbilical pulling: on the first leg, from x = 18 m on, it is within 0.1 m of the leg's line
+    (plain LOS converges to the line without a current); over the last 20 s it stays within 0.2 m
+    of (30, 20) horizontally and 0.1 m of 25 m depth."""
+    r = ScenarioRun(load_scenario(text=ROUTE))
+    try:
+        leg_a, leg_b = np.array([10.0, 1.0]), np.array([30.0, 0.0])
+        d = (leg_b - leg_a) / np.linalg.norm(leg_b - leg_a)
+        worst_leg, held = 0.0, []
+        for _ in range(int(round(100.0 / r.sim.timestep))):
+            r.step()
+            p = r.sim.data.xpos[r.named.torso]
+            if r.pilot._leg == 0 and p[0] > 18.0:
+                off = p[:2] - leg_a
+                worst_leg = max(worst_leg, abs(off[0] * d[1] - off[1] * d[0]))
+            if r.sim.time > 80.0:
+                held.append(p.copy())
+        assert r.pilot.station is not None
+        held = np.array(held)
+        assert worst_leg < 0.1, worst_leg
+        assert np.max(np.hypot(held[:, 0] - 30.0, held[:, 1] - 20.0)) < 0.2
+        assert np.max(np.abs(held[:, 2] + 25.0)) < 0.1
+    finally:
+        r.close()
