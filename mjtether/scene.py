@@ -1,6 +1,7 @@
 """A scenario's scene as an ``MjSpec``: the water, the (possibly sloped) seabed, the ship, and the
-robot end, a walker standing on the seabed or an anchor point; and the typed configuration's
-water column, tether, line make-up and winch as the library's objects.
+robot end (a walker standing on the seabed, a free-swimming vehicle from its vehicle file, or an
+anchor point); and the typed configuration's water column, tether, line make-up and winch as the
+library's objects.
 
 The tether itself is added once its start is known (``start``), by ``runner.ScenarioRun``.
 
@@ -126,8 +127,9 @@ class Scene:
 
 
 def build_scene(sc: Scenario) -> Scene:
-    """The scenario's spec (options, seabed, ship, the walker placed on the seabed if the robot is
-    one) and the objects the run needs; the tether is added by the run."""
+    """The scenario's spec (options, seabed, ship, the walker placed on the seabed or the vehicle
+    at its start, if the robot is one) and the objects the run needs; the tether is added by the
+    run."""
     water = water_from(sc)
     dt = sc.simulation.timestep
     spec = mujoco.MjSpec()
