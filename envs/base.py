@@ -17,7 +17,6 @@ import time
 from dataclasses import dataclass, fields
 
 import gymnasium as gym
-import mujoco
 import numpy as np
 
 from mjtether.config import ConfigError, Section, param

@@ -8,6 +8,8 @@ import math
 
 import numpy as np
 
+from mjtether.controllers import heading_error
+
 
 class FollowPayout:
     """Khan et al. (2023), Eq. 30: pay out at the walker's speed, V_po = v_r (``TetherWinch-v0``)."""
@@ -31,7 +33,7 @@ class SteerToGoal:
         n = e.runner.named
         yaw = n.robot_heading
         to_goal = e.goal - n.torso_position[:2]
-        err = (math.atan2(to_goal[1], to_goal[0]) - yaw + math.pi) % (2 * math.pi) - math.pi
+        err = heading_error(math.atan2(to_goal[1], to_goal[0]), yaw)
         dist = float(np.hypot(*to_goal))
         speed = self.speed * min(1.0, dist / 3.0) * max(0.0, math.cos(err))
         _, _, v = e.robot_kinematics()

@@ -143,7 +143,6 @@ def tether_loads(x, v, rest, diameter, cd_normal, cd_tangential, area, cd_area_f
     t = np.empty(3)
     vrel = np.empty(3)
     for i in range(n):
-        length = 0.0
         for j in range(3):
             t[j] = x[i + 1, j] - x[i, j]
         length = math.sqrt(t[0] * t[0] + t[1] * t[1] + t[2] * t[2])

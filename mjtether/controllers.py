@@ -16,7 +16,8 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.optimize import lsq_linear
 
-from .vehicles import heading_error, thrust_matrix
+from .readouts import roll_pitch
+from .vehicles import thrust_matrix
 from .walker import Tripod
 
 WALK_ACCEL = 0.2
@@ -27,6 +28,11 @@ MAX_TURN = 0.5
 """Largest turn rate (rad/s) the heading hold asks of the gait."""
 CONTROL_HZ = 100.0
 """Rate (Hz) at which the gait updates the walker's joint targets."""
+
+
+def heading_error(want: float, have: float) -> float:
+    """want - have (rad), wrapped to [-pi, pi)."""
+    return (want - have + math.pi) % (2 * math.pi) - math.pi
 
 
 @dataclass
@@ -78,7 +84,7 @@ class Ship:
     def update(self, run, t: float, dt: float) -> None:
         """Move the ship's mocap body, following the robot's tow point where it follows."""
         tow = run.robot_position if run.named.tow_site is None else run.sim.data.site_xpos[run.named.tow_site]
-        run.sim.data.mocap_pos[run.named._ship] = self.advance(dt, t, tow)
+        run.sim.data.mocap_pos[run.named.ship_mocap] = self.advance(dt, t, tow)
 
 
 class WinchDrive:
@@ -131,7 +137,7 @@ class GaitDrive:
         if self._since_control >= 1.0 / CONTROL_HZ - 1e-9:
             # heading hold: the open-loop gait drifts, and the tether's pull turns the walker
             R = self._data.xmat[self._torso].reshape(3, 3)
-            err = (self.heading_ref - math.atan2(R[1, 0], R[0, 0]) + math.pi) % (2 * math.pi) - math.pi
+            err = heading_error(self.heading_ref, math.atan2(R[1, 0], R[0, 0]))
             turn = max(-MAX_TURN, min(MAX_TURN, turn_rate + HEADING_GAIN * err))
             # speed changes ramp at WALK_ACCEL: a step in stride jerks the stance legs
             dv = WALK_ACCEL * self._since_control
@@ -236,7 +242,7 @@ class VehiclePilot:
         N = g.heading_kp * e[1] - g.heading_kd * nu[5] + g.heading_ki * self._i[1]
         Z = g.depth_kp * e[2] - g.depth_kd * w + g.depth_ki * self._i[2]
         f = R.T @ np.array([0.0, 0.0, Z])
-        roll, pitch = math.atan2(R[2, 1], R[2, 2]), math.asin(max(-1.0, min(1.0, -R[2, 0])))
+        roll, pitch = roll_pitch(R)
         K = -g.roll_kp * roll - g.roll_kd * nu[3]
         M = -g.pitch_kp * pitch - g.pitch_kd * nu[4]
         self.wrench = np.array([X + f[0], f[1], f[2], K, M, N])

@@ -65,7 +65,8 @@ class Readouts:
         self._run = run
         self._sim, self._bt = run.sim, run.sim.tether()
         m = run.sim.model
-        self._ship = m.body("ship").mocapid[0]
+        self.ship_mocap = m.body("ship").mocapid[0]
+        """Mocap index of the ship's body."""
         # a robot with a body of its own: the walker (its torso) or a vehicle (its hull)
         self._bodied = run.walker or run.is_vehicle
         prefix = "walker" if run.walker else "vehicle"
@@ -131,7 +132,7 @@ class Readouts:
     @property
     def ship_position(self) -> np.ndarray:
         """Position of the ship's mocap body (m, world; the fairlead's, less its heave)."""
-        return self._sim.data.mocap_pos[self._ship].copy()
+        return self._sim.data.mocap_pos[self.ship_mocap].copy()
 
     # ------------------------------------------------------------------ the robot
 
@@ -215,7 +216,7 @@ class Readouts:
         x = d.flexvert_xpos[bt.vertadr + bt.n - 1:bt.vertadr + bt.n + 1]  # the last two nodes
         ex, ey = float(x[1, 0] - x[0, 0]), float(x[1, 1] - x[0, 1])
         if math.hypot(ex, ey) < 1e-3 * bt.l0:
-            ship = d.mocap_pos[self._ship]
+            ship = d.mocap_pos[self.ship_mocap]
             ex, ey = float(x[1, 0] - ship[0]), float(x[1, 1] - ship[1])
         vel = self._vel6
         mujoco.mj_objectVelocity(self._sim.model, d, mujoco.mjtObj.mjOBJ_SITE, self.tow_site, vel, 0)
@@ -289,7 +290,7 @@ class Readouts:
         fe = bt.end_force(d, "end")
         x = bt.nodes(d)
         on_bottom = self.length_on_seabed(x)
-        ship = d.mocap_pos[self._ship]
+        ship = d.mocap_pos[self.ship_mocap]
         tow, yaw, speed, R = self.robot_state()
         if self._bodied:  # Khan et al. Eq. 38 about the robot's centre of mass
             moment = np.cross(tow - d.subtree_com[self.torso], fe)

@@ -25,7 +25,7 @@ from . import builder, start
 from .controllers import GaitDrive, Ship, VehiclePilot, WinchDrive  # noqa: F401 - Ship: the run's ship kinematics
 from .readouts import RECORD_FIELDS, Readouts, roll_pitch  # noqa: F401 - the record's columns
 from .scenario import Scenario
-from .scene import VEHICLE, build_scene, makeup_from, tether_from, vehicle_quat, vehicle_tow_point  # noqa: F401
+from .scene import VEHICLE, build_scene, heading_quat, makeup_from, tether_from, vehicle_tow_point  # noqa: F401
 from .scene import water_from, winch_from  # noqa: F401
 from .simulation import Simulation
 
@@ -93,7 +93,7 @@ class ScenarioRun:
             if self.is_vehicle:  # level, at its start heading, at rest
                 m = self.sim.model
                 adr = m.joint(f"{VEHICLE}/ball").qposadr[0]
-                self.sim.data.qpos[adr:adr + 4] = vehicle_quat(scene.heading)
+                self.sim.data.qpos[adr:adr + 4] = heading_quat(scene.heading)
                 self.sim.forward()
                 self.vehicle = self.sim.bodies[-1]
                 vs, sp = scene.vehicle, np.array(sc.robot.setpoints, dtype=float)

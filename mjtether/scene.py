@@ -157,8 +157,8 @@ def build_scene(sc: Scenario) -> Scene:
     return scene
 
 
-def vehicle_quat(heading: float) -> np.ndarray:
-    """The quaternion (w, x, y, z) of a level vehicle facing ``heading`` (rad)."""
+def heading_quat(heading: float) -> np.ndarray:
+    """The quaternion (w, x, y, z) of a turn by ``heading`` (rad) about z: a level body facing it."""
     return np.array([math.cos(heading / 2), 0.0, 0.0, math.sin(heading / 2)])
 
 
@@ -166,7 +166,7 @@ def vehicle_tow_point(scene: Scene) -> np.ndarray:
     """A vehicle's tow point at the start (m, world): its origin at robot.position, level, at
     the start heading."""
     R = np.zeros(9)
-    mujoco.mju_quat2Mat(R, vehicle_quat(scene.heading))
+    mujoco.mju_quat2Mat(R, heading_quat(scene.heading))
     return np.asarray(scene.sc.robot.position, dtype=float) + R.reshape(3, 3) @ np.asarray(scene.vehicle.tow_point)
 
 
@@ -179,7 +179,7 @@ def add_walker(scene: Scene) -> None:
     yaw = scene.heading
     tilt = np.array(spec.geom("seabed").quat)
     quat = np.zeros(4)
-    mujoco.mju_mulQuat(quat, tilt, [math.cos(yaw / 2), 0.0, 0.0, math.sin(yaw / 2)])
+    mujoco.mju_mulQuat(quat, tilt, heading_quat(yaw))
     normal = np.zeros(9)
     mujoco.mju_quat2Mat(normal, tilt)
     pos = np.array([x, y, scene.seabed_z(x, y)]) + WALKER_STAND_HEIGHT * normal[[2, 5, 8]]

@@ -36,7 +36,7 @@ def stand_walker(scene: Scene, gait_run: Tripod, dt: float):
     """Let the walker stand (stepping in place) on the seabed for STAND_S without the tether,
     with its hydrodynamics, then put it back at its commanded position and heading; returns
     ({joint: (qpos, qvel)}, the actuators' controls, tow point (m, world)) of that pose, and
-    leaves ``gait`` (the run's) at the phase it stood in."""
+    leaves ``gait_run`` (the run's gait) at the phase it stood in."""
     spec = scene.spec
     with Simulation(spec.copy(), scene.water, bodies=scene.bodies) as sim:
         m, d = sim.model, sim.data

@@ -97,7 +97,7 @@ def add_vehicle(spec: mujoco.MjSpec, name: str, *, mass: float, inertia, hydro: 
     Sites: ``{name}/origin``. Set the orientation through the ball joint's qpos (w, x, y, z)."""
     _checks.positive(f"{name}.mass", mass, "kg")
     I = np.asarray(inertia, dtype=float)
-    if I.shape != (3,) or np.any(I <= 0):
+    if I.shape != (3,) or not np.all(np.isfinite(I)) or np.any(I <= 0):
         raise ValueError(f"{name}.inertia must be 3 principal moments > 0 (kg m^2), got {inertia!r}")
     if not isinstance(hydro, VehicleHydro):
         raise ValueError("hydro must be a VehicleHydro")

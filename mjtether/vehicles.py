@@ -15,7 +15,6 @@ The file's tables (units SI; body frame x forward, y left, z up; see ``vehicle``
 
 from __future__ import annotations
 
-import math
 import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -153,7 +152,3 @@ def thrust_matrix(thrusters) -> np.ndarray:
     about the origin, [d_k; r_k x d_k]."""
     return np.array([[*t.direction, *np.cross(t.position, t.direction)] for t in thrusters]).T.reshape(6, -1)
 
-
-def heading_error(want: float, have: float) -> float:
-    """want - have (rad), wrapped to [-pi, pi)."""
-    return (want - have + math.pi) % (2 * math.pi) - math.pi

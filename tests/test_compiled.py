@@ -11,7 +11,6 @@ import mujoco
 import numpy as np
 import pytest
 
-import mjtether as mt
 from mjtether import compiled, hydro, water as wm
 from mjtether.runner import ScenarioRun
 from mjtether.scenario import load_scenario

@@ -117,7 +117,7 @@ def mujoco_run(p, duration, dt=0.005):
                      pos=(0.0, 0.0, -50.0))
     out = {"t": [], "p": [], "q": [], "nu": []}
     with mt.Simulation(spec, water, bodies=[vm]) as sim:
-        m, d = sim.model, sim.data
+        d = sim.data
         bv = sim.bodies[0]
         every = int(round(0.5 / dt))
         for k in range(int(round(duration / dt)) + 1):
@@ -188,9 +188,10 @@ def test_bad_vehicle_hydro_is_named(kwargs, message):
         VehicleHydro(**kwargs)
 
 
-def test_bad_vehicle_inertia_is_named():
+@pytest.mark.parametrize("inertia", [(1.0, 0.0, 1.0), (1.0, float("nan"), 1.0), (1.0, 1.0)])
+def test_bad_vehicle_inertia_is_named(inertia):
     with pytest.raises(ValueError, match=r"auv.inertia must be 3 principal moments > 0"):
-        add_vehicle(mujoco.MjSpec(), "auv", mass=31.0, inertia=(1.0, 0.0, 1.0), hydro=VehicleHydro(volume=0.03))
+        add_vehicle(mujoco.MjSpec(), "auv", mass=31.0, inertia=inertia, hydro=VehicleHydro(volume=0.03))
 
 
 def _decay_period(params, axis: int, angle_deg: float = 5.0, dt=0.002, duration=None):
