@@ -161,6 +161,42 @@ MOMENT_WEIGHT = 10.0
 the thrusters cannot give everything, attitude is kept before a force is met."""
 
 
+class Manoeuvre:
+    """A standard manoeuvre of a vehicle with a rudder (ITTC's free-running trials): from
+    ``start`` (s) the rudder is set by it, not by the heading loop, and the propeller's shaft
+    speed is held at what it was then. Kinds: ``turning_circle`` (``rudder`` rad held),
+    ``zigzag`` (+-``rudder``, reversed each time the heading has changed by ``zigzag_heading``
+    rad the way the rudder turns it; the first to the rudder's positive side) and ``spiral``
+    (the angles of ``spiral_rudders`` rad, each held ``spiral_step`` s)."""
+
+    def __init__(self, kind: str, start: float, rudder: float = 0.0, zigzag_heading: float = 0.0,
+                 spiral_rudders=(), spiral_step: float = 60.0, turn_sign: float = -1.0):
+        self.kind, self.start, self.rudder = kind, float(start), float(rudder)
+        self.zigzag_heading, self.spiral_rudders = float(zigzag_heading), tuple(spiral_rudders)
+        self.spiral_step = float(spiral_step)
+        self.turn_sign = turn_sign  # the sign of the heading change a positive rudder makes
+        self.rpm = None  # the shaft speed held (rpm), set when the manoeuvre starts
+        self._heading0 = None
+        self._angle = self.rudder
+
+    def angle(self, t: float, heading: float) -> float | None:
+        """The rudder angle (rad) at ``t`` (s), the vehicle heading ``heading`` (rad); None
+        before the manoeuvre starts."""
+        if t < self.start:
+            return None
+        if self._heading0 is None:
+            self._heading0 = heading
+        if self.kind == "turning_circle":
+            return self.rudder
+        if self.kind == "spiral":
+            k = min(int((t - self.start) // self.spiral_step), len(self.spiral_rudders) - 1)
+            return self.spiral_rudders[k]
+        turned = heading_error(heading, self._heading0) * self.turn_sign * math.copysign(1.0, self._angle)
+        if turned >= self.zigzag_heading:  # the heading has gone far enough the rudder's way: reverse it
+            self._angle = -self._angle
+        return self._angle
+
+
 class VehiclePilot:
     """Speed, heading and depth autopilot of a vehicle (gains: ``vehicles.Autopilot``), and the
     allocation of the wrench it asks for to the thrusters.
@@ -174,7 +210,8 @@ class VehiclePilot:
     wanted (N), which its actuator lags and clips."""
 
     def __init__(self, setpoints: np.ndarray, gains, thrusters, actuators: np.ndarray, route=None,
-                 start=(0.0, 0.0), lookahead: float = 5.0, acceptance_radius: float = 2.0):
+                 start=(0.0, 0.0), lookahead: float = 5.0, acceptance_radius: float = 2.0, fins=(),
+                 fin_actuators=(), propeller=None, propeller_actuator=None, manoeuvre: Manoeuvre | None = None):
         self.setpoints = setpoints
         self.route = None if route is None else np.asarray(route, dtype=float)  # rows x, y, depth, speed
         self.lookahead, self.acceptance_radius = float(lookahead), float(acceptance_radius)
@@ -192,11 +229,33 @@ class VehiclePilot:
         most = np.abs(self.B) @ np.maximum(self.hi, -self.lo) if self.B.shape[1] else np.zeros(6)
         ki = np.array([gains.speed_ki, gains.heading_ki, gains.depth_ki])
         self._i_max = np.where(ki > 0, most[[0, 5, 2]] / np.where(ki > 0, ki, 1.0), 0.0)
+        self._ki = ki
+        self._band = np.array(PILOT_BANDS)
         self._since = 1.0 / PILOT_HZ  # the first call commands
         self.wrench = np.zeros(6)  # the wrench last asked for (N, N m; body frame)
         self._w = np.r_[1.0, 1.0, 1.0, MOMENT_WEIGHT, MOMENT_WEIGHT, MOMENT_WEIGHT]
+        if gains.depth_by_pitch:  # a torpedo asks for surge force, pitch and yaw moments only
+            self._w = np.r_[1.0, 0.0, 0.0, 0.0, MOMENT_WEIGHT, MOMENT_WEIGHT]
         self._WB = self._w[:, None] * self.B
         self._pinv = np.linalg.pinv(self._WB) if self.B.shape[1] else None  # the unbounded solution
+        # fins and a propeller: their columns depend on the speed through the water (``_effectors``)
+        self.fins, self.fin_actuators = tuple(fins), np.asarray(fin_actuators, dtype=int)
+        self.propeller, self.propeller_actuator = propeller, propeller_actuator
+        self._steered = bool(self.fins) or propeller is not None
+        self.manoeuvre = manoeuvre
+        self._rudders = np.array([f.yaw_per_angle != 0.0 for f in self.fins], dtype=bool)
+        if self._steered:
+            self._fin_cols = np.array([[*f.lift_direction, *np.cross(f.position, f.lift_direction)]
+                                       for f in self.fins]).reshape(-1, 6)
+            self._fin_gain = np.array([0.5 * f.area * f.cl_delta for f in self.fins])
+            self._fin_max = np.array([f.max_angle for f in self.fins])
+            if propeller is not None:
+                r = propeller.position
+                self._prop_col = np.array([1.0, 0.0, 0.0, 0.0, r[2], -r[1]])
+        self._max_pitch = math.radians(gains.max_pitch_deg)
+        if gains.depth_by_pitch:  # the depth error that asks for the largest pitch, the largest integral
+            self._band[2] = gains.max_pitch_deg / gains.depth_pitch_kp if gains.depth_pitch_kp > 0 else math.inf
+            self._i_max[2] = gains.max_pitch_deg / gains.depth_pitch_ki if gains.depth_pitch_ki > 0 else 0.0
 
     def setpoint(self, t: float) -> tuple[float, float, float]:
         k = int(np.searchsorted(self.setpoints[:, 0], t, side="right")) - 1
@@ -234,27 +293,92 @@ class VehiclePilot:
         speed, heading, depth = self.setpoint(t) if self.route is None else self.guide(p, yaw)
         e = np.array([speed - nu[0], heading_error(heading, math.atan2(R[1, 0], R[0, 0])),
                       -depth - float(run.sim.data.xpos[run.vehicle.id][2])])
-        band = np.array(PILOT_BANDS)
+        band = self._band
+        if self._steered:  # what the fins can give depends on the speed: so do the integrals' caps
+            eff = self._effectors(run, nu, R)
+            most = np.abs(eff[0]) @ np.maximum(eff[2], -eff[1])
+            self._i_max[:2] = np.where(self._ki[:2] > 0, most[[0, 5]] / np.where(self._ki[:2] > 0, self._ki[:2], 1.0), 0.0)
         self._i = np.clip(self._i + np.where(np.abs(e) < band, e, 0.0) * h, -self._i_max, self._i_max)
         e = np.clip(e, -band, band)
         w = float((R @ nu[:3])[2])
         X = g.speed_kp * e[0] + g.speed_ki * self._i[0]
         N = g.heading_kp * e[1] - g.heading_kd * nu[5] + g.heading_ki * self._i[1]
-        Z = g.depth_kp * e[2] - g.depth_kd * w + g.depth_ki * self._i[2]
-        f = R.T @ np.array([0.0, 0.0, Z])
         roll, pitch = roll_pitch(R)
         K = -g.roll_kp * roll - g.roll_kd * nu[3]
-        M = -g.pitch_kp * pitch - g.pitch_kd * nu[4]
+        if g.depth_by_pitch:  # rise or dive by pitching (pitch > 0: nose down)
+            f = np.zeros(3)
+            pitch_wanted = -math.radians(g.depth_pitch_kp * e[2] + g.depth_pitch_ki * self._i[2])
+            pitch_wanted = max(-self._max_pitch, min(self._max_pitch, pitch_wanted))
+            M = g.pitch_kp * (pitch_wanted - pitch) - g.pitch_kd * nu[4]
+        else:
+            Z = g.depth_kp * e[2] - g.depth_kd * w + g.depth_ki * self._i[2]
+            f = R.T @ np.array([0.0, 0.0, Z])
+            M = -g.pitch_kp * pitch - g.pitch_kd * nu[4]
         self.wrench = np.array([X + f[0], f[1], f[2], K, M, N])
         if self.station is not None:  # hold the last waypoint: a horizontal PD on the position error
             ex, ey = self.station[0] - float(p[0]), self.station[1] - float(p[1])
             c, s = math.cos(yaw), math.sin(yaw)
             self.wrench[0] = f[0] + g.station_kp * (c * ex + s * ey) - g.station_kd * nu[0]
             self.wrench[1] = f[1] + g.station_kp * (-s * ex + c * ey) - g.station_kd * nu[1]
-        if self.B.shape[1]:
+        if self._steered:
+            self._allocate(run.sim.data, *eff)
+            if self.manoeuvre is not None:
+                self._manoeuvre(run, t, yaw)
+        elif self.B.shape[1]:
             target = self._w * self.wrench
             x = self._pinv @ target  # the least-squares answer of least thrust: if within the limits (the
             # usual case), it solves the bounded problem too
             if np.any(x < self.lo) or np.any(x > self.hi):
                 x = lsq_linear(self._WB, target, bounds=(self.lo, self.hi)).x
             run.sim.data.ctrl[self.actuators] = x
+
+    def _effectors(self, run, nu: np.ndarray, R: np.ndarray):
+        """(B 6 x n, lower and upper limits, surge speed through the water m/s, rho kg/m^3): the
+        thrusters', fins' (per rad) and propeller's (per N of thrust) wrench per unit of command
+        at the present speed through the water, and their limits."""
+        z = np.array([min(float(run.sim.data.xpos[run.vehicle.id][2]), 0.0)])
+        water = run.vehicle.water
+        rho = float(water.rho(z)[0])
+        v = nu[:3] - R.T @ water.velocity(z)[0]  # through the water, body frame
+        cols, lo, hi = [self.B], [self.lo], [self.hi]
+        if self.fins:
+            U2 = np.array([float(v @ v) - float(f.span @ v) ** 2 for f in self.fins])
+            cols.append((self._fin_cols * (rho * U2 * self._fin_gain)[:, None]).T)
+            lo.append(-self._fin_max)
+            hi.append(self._fin_max)
+        u_r = float(v[0])
+        if self.propeller is not None:
+            p = self.propeller
+            cols.append(self._prop_col[:, None])
+            lo.append([min(p.thrust(-p.max_rpm, u_r, rho)[0], 0.0)])
+            hi.append([max(p.thrust(p.max_rpm, u_r, rho)[0], 0.0)])
+        return np.hstack(cols), np.concatenate(lo), np.concatenate(hi), u_r, rho
+
+    def _allocate(self, data, B, lo, hi, u_r: float, rho: float) -> None:
+        """Allocate ``wrench`` to thrusters, fins (angle, rad) and a propeller (thrust, turned
+        into a shaft speed) with the columns of ``_effectors``: as for thrusters alone, the
+        least-squares answer of least effort where it is within the limits, else bounded least
+        squares."""
+        WB, target = self._w[:, None] * B, self._w * self.wrench
+        x = np.linalg.pinv(WB) @ target
+        if np.any(x < lo) or np.any(x > hi):  # bounded-variable least squares (exact, an active set)
+            x = lsq_linear(WB, target, bounds=(lo, hi), method="bvls").x
+        n = self.B.shape[1]
+        if n:
+            data.ctrl[self.actuators] = x[:n]
+        if self.fins:
+            data.ctrl[self.fin_actuators] = x[n:n + len(self.fins)]
+        if self.propeller is not None:
+            data.ctrl[self.propeller_actuator] = self.propeller.rpm_for(float(x[-1]), u_r, rho)
+
+    def _manoeuvre(self, run, t: float, yaw: float) -> None:
+        """The manoeuvre's rudder angle and held shaft speed, over what the allocation gave."""
+        mv, data = self.manoeuvre, run.sim.data
+        angle = mv.angle(t, yaw)
+        if angle is None:
+            return
+        data.ctrl[self.fin_actuators[self._rudders]] = angle
+        if self.propeller is not None:
+            if mv.rpm is None:
+                mv.rpm = float(data.act[run.sim.model.actuator_actadr[self.propeller_actuator]])
+            data.ctrl[self.propeller_actuator] = mv.rpm

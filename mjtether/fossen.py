@@ -16,6 +16,8 @@ world z up. Units SI.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 
@@ -55,3 +57,43 @@ def restoring_force(R: np.ndarray, weight: float, buoyancy: float, r_g: np.ndarr
     f_g = R.T @ np.array([0.0, 0.0, -weight])
     f_b = R.T @ np.array([0.0, 0.0, buoyancy])
     return -np.concatenate([f_g + f_b, cross(r_g, f_g) + cross(r_b, f_b)])
+
+
+def crossflow_drag(nu_r: np.ndarray, rho: float, length: float, diameter: float, cd: float,
+                   strips: int = 20) -> np.ndarray:
+    """Cross-flow drag of a slender hull by strip theory (Fossen 2021, Sec. 6.7.2): the hull's
+    length (m) in ``strips`` equal strips about the origin (x from -L/2 to L/2), each of
+    diameter D (m) in the flow across it with the 2-D drag coefficient ``cd``; the flow across
+    a strip at x is (v_r + x r, w_r - x q) (body frame, m/s), and its drag acts along that flow.
+    Returns the body-frame wrench (N, N m) about the origin: sway, heave, pitch and yaw."""
+    dx = length / strips
+    x = (np.arange(strips) + 0.5) * dx - 0.5 * length
+    vy = nu_r[1] + x * nu_r[5]
+    vz = nu_r[2] - x * nu_r[4]
+    k = -0.5 * rho * diameter * cd * dx * np.hypot(vy, vz)
+    Y, Z = k * vy, k * vz
+    return np.array([0.0, Y.sum(), Z.sum(), 0.0, -(x * Z).sum(), (x * Y).sum()])
+
+
+def lift_drag(nu_r: np.ndarray, rho: float, area: float, cd0: float, span: float,
+              oswald: float = 0.7) -> np.ndarray:
+    """Lift and drag of a hull in its vertical plane (Fossen 2021, Sec. 8.4.2; his
+    ``forceLiftDrag``): angle of attack alpha = atan2(w_r, |u_r|), lift coefficient
+    CL = CL_alpha alpha with CL_alpha = pi AR / (1 + sqrt(1 + (AR / 2)^2)) and AR = span^2 / area,
+    drag coefficient CD = cd0 + CL^2 / (pi e AR), both on the reference ``area`` (m^2) at the
+    dynamic pressure of the whole relative speed |(u_r, v_r, w_r)| (as Fossen writes it). The
+    drag acts against the flow in the x-z plane, the lift across it, opposing w_r; running
+    astern mirrors it (Fossen's form is for u_r > 0). Returns the body-frame wrench (surge and
+    heave, N; no moment), z up."""
+    u, w = float(nu_r[0]), float(nu_r[2])
+    h = math.hypot(u, w)
+    if h == 0.0:
+        return np.zeros(6)
+    alpha = math.atan2(w, abs(u))
+    AR = span ** 2 / area
+    CL = math.pi * AR / (1.0 + math.sqrt(1.0 + (AR / 2.0) ** 2)) * alpha
+    CD = cd0 + CL ** 2 / (math.pi * oswald * AR)
+    q = 0.5 * rho * (u * u + float(nu_r[1]) ** 2 + w * w) * area
+    lift, drag = q * CL, q * CD
+    return np.array([-drag * u / h + lift * math.copysign(1.0, u) * math.sin(alpha), 0.0,
+                     -drag * w / h - lift * math.cos(alpha), 0.0, 0.0, 0.0])

@@ -22,12 +22,22 @@ import mujoco
 import numpy as np
 
 from . import builder, start
-from .controllers import GaitDrive, Ship, VehiclePilot, WinchDrive  # noqa: F401 - Ship: the run's ship kinematics
+from .controllers import GaitDrive, Manoeuvre, Ship, VehiclePilot, WinchDrive  # noqa: F401 - Ship: the run's ship kinematics
 from .readouts import RECORD_FIELDS, Readouts, roll_pitch  # noqa: F401 - the record's columns
 from .scenario import Scenario
 from .scene import VEHICLE, build_scene, heading_quat, makeup_from, tether_from, vehicle_tow_point  # noqa: F401
 from .scene import water_from, winch_from  # noqa: F401
 from .simulation import Simulation
+
+
+def manoeuvre_from(robot, vs) -> Manoeuvre | None:
+    """The scenario's manoeuvre (``robot.manoeuvre``) for the vehicle ``vs``, or None."""
+    if robot.manoeuvre == "none":
+        return None
+    yaw = sum(f.yaw_per_angle for f in vs.fins)  # a positive rudder's yaw moment: its sign turns the vehicle
+    return Manoeuvre(robot.manoeuvre, robot.manoeuvre_start_s, math.radians(robot.rudder_deg),
+                     math.radians(robot.zigzag_heading_deg), [math.radians(a) for a in robot.spiral_rudders_deg],
+                     robot.spiral_step_s, turn_sign=math.copysign(1.0, yaw))
 
 
 class RunFailed(RuntimeError):
@@ -100,9 +110,13 @@ class ScenarioRun:
                 sp[:, 2] = np.radians(sp[:, 2])
                 acts = np.array([m.actuator(f"{VEHICLE}/{t.name}").id for t in vs.thrusters], dtype=int)
                 r = sc.robot
+                fins = np.array([m.actuator(f"{VEHICLE}/{f.name}").id for f in vs.fins], dtype=int)
+                prop = None if vs.propeller is None else m.actuator(f"{VEHICLE}/{vs.propeller.name}").id
                 self.pilot = VehiclePilot(sp, vs.autopilot, vs.thrusters, acts, route=r.waypoints,
                                           start=r.position, lookahead=r.lookahead,
-                                          acceptance_radius=r.acceptance_radius)
+                                          acceptance_radius=r.acceptance_radius, fins=vs.fins, fin_actuators=fins,
+                                          propeller=vs.propeller, propeller_actuator=prop,
+                                          manoeuvre=manoeuvre_from(r, vs))
             if self.initial is not None:  # the steady state's seabed friction, carried into the run
                 self.sim.tether().preload_friction(self.sim.data, self.initial.tension)
             self.bt = self.sim.tether()

@@ -375,6 +375,20 @@ class Robot(Section):
     lookahead: float = param(5.0, 0.1, 1e4, "m", "vehicle: line-of-sight lookahead distance along the route")
     acceptance_radius: float = param(2.0, 0.01, 1e4, "m", "vehicle: a waypoint is reached within this horizontal "
                                      "distance")
+    manoeuvre: str = param("none", doc="vehicle with a rudder: a standard manoeuvre from robot.manoeuvre_start_s on, "
+                           "the rudder set by it instead of the heading loop and the propeller held at its shaft "
+                           "speed then (speed and depth loops as before): turning_circle (robot.rudder_deg held), "
+                           "zigzag (+-robot.rudder_deg, reversed at +-robot.zigzag_heading_deg of heading change) "
+                           "or spiral (robot.spiral_rudders_deg, each held robot.spiral_step_s)",
+                           choices=("none", "turning_circle", "zigzag", "spiral"))
+    manoeuvre_start_s: float = param(10.0, 0.0, 1e6, "s", "vehicle: when the manoeuvre starts (the setpoints are "
+                                     "flown until then)")
+    rudder_deg: float = param(15.0, -90.0, 90.0, "deg", "turning_circle, zigzag: rudder angle (positive: the "
+                              "vehicle file's positive rudder; the REMUS 100's turns to starboard)")
+    zigzag_heading_deg: float = param(20.0, 0.1, 90.0, "deg", "zigzag: heading change that reverses the rudder")
+    spiral_rudders_deg: tuple = param((15.0, 10.0, 5.0, 0.0, -5.0, -10.0, -15.0), -90.0, 90.0, "deg",
+                                      "spiral: rudder angles, each held robot.spiral_step_s", kind="list")
+    spiral_step_s: float = param(60.0, 1.0, 1e5, "s", "spiral: how long each rudder angle is held")
 
     def _check(self):
         if self.type in ("anchor", "vehicle") and self.position is None:
@@ -392,9 +406,12 @@ class Robot(Section):
                 self._bad("waypoints", "depths (third column) and speeds (fourth) must be >= 0")
             from .vehicles import load_vehicle
             try:
-                load_vehicle(self.vehicle)
+                vs = load_vehicle(self.vehicle)
             except ValueError as exc:
                 self._bad("vehicle", str(exc))
+            if self.manoeuvre != "none" and not any(f.yaw_per_angle for f in vs.fins):
+                self._bad("manoeuvre", f"{self.manoeuvre} needs a vehicle with a rudder (a fin that turns it in yaw); "
+                          f"{self.vehicle} has none")
         times = [c[0] for c in self.commands]
         if times[0] != 0.0 or any(b <= a for a, b in zip(times, times[1:])):
             self._bad("commands", "the times (first column, s) must start at 0 and increase")

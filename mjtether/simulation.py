@@ -834,8 +834,12 @@ class Simulation:
         self._t_step = 0.0  # s, the time at the end of the step being taken
         self._worst = []  # what was furthest out after the last step (see check)
         dispatch.register(self.data, self._passive)
-        mujoco.mj_forward(self.model, self.data)
-        dispatch.raise_pending(self.data)
+        try:
+            mujoco.mj_forward(self.model, self.data)
+            dispatch.raise_pending(self.data)
+        except BaseException:  # a provider failed on the first state: leave nothing registered
+            self.close()
+            raise
 
     def _passive(self, m, d):
         for p in self._providers:

@@ -15,7 +15,9 @@ centre of gravity itself. The added mass is split:
   the linear-angular coupling; zero for the bodies of revolution and box-like ROVs shipped).
 
 Explicitly, as passive forces each step: C_A(nu_r) nu_r (the Munk moment), D(nu_r) nu_r, the
-buoyancy rho(z) g V at the centre of buoyancy, and the term M_A (omega x nu_r) that turns the
+buoyancy rho(z) g V at the centre of buoyancy, a torpedo's hull lift, axial and cross-flow drag
+(``Hull``; ``fossen.lift_drag``, ``fossen.crossflow_drag``), its fins' lift and drag (``fins``)
+and its propeller's thrust (``propeller``), and the term M_A (omega x nu_r) that turns the
 tendons' world-frame inertia into Fossen's body-frame M_A nu_r' (for a current uniform and
 steady in the world: nu_c' = -omega x nu_c in the body). The current is the water column's at the
 body origin's depth; its change with depth along the vehicle's path (w du/dz) is neglected in
@@ -26,13 +28,16 @@ Units SI; world z up; body x forward, y left, z up.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 
 import mujoco
 import numpy as np
 
 from . import _checks
-from .fossen import cross, damping_force, m2c, restoring_force
+from .fins import fin_wrench
+from .fossen import cross, crossflow_drag, damping_force, lift_drag, m2c, restoring_force
+from .propeller import Propeller
 from .rigidbody import make_not_simple
 
 
@@ -46,6 +51,35 @@ def _matrix6(name: str, value) -> np.ndarray:
 
 
 @dataclass(frozen=True)
+class Hull:
+    """A slender hull of revolution's lift and drag (Fossen 2021, Sec. 8.4.2): ``length`` L and
+    ``diameter`` D (m); axial drag coefficient ``axial_cd`` on the frontal area pi D^2 / 4;
+    the 2-D ``crossflow_cd`` of its section, summed over ``strips`` strips; lift on the
+    ``reference_area`` (m^2; Fossen: 0.7 L D) with span D and Oswald factor ``oswald``."""
+
+    length: float
+    diameter: float
+    axial_cd: float
+    crossflow_cd: float
+    reference_area: float
+    oswald: float = 0.7
+    strips: int = 20
+
+    def __post_init__(self):
+        for key, unit in (("length", "m"), ("diameter", "m"), ("reference_area", "m^2"), ("oswald", "")):
+            _checks.positive(f"hull.{key}", getattr(self, key), unit)
+        for key in ("axial_cd", "crossflow_cd"):
+            _checks.non_negative(f"hull.{key}", getattr(self, key))
+        _checks.positive_int("hull.strips", self.strips)
+
+    def wrench(self, nu_r: np.ndarray, rho: float) -> np.ndarray:
+        """Lift, axial and cross-flow drag (body frame, N, N m about the origin)."""
+        cd0 = self.axial_cd * np.pi * self.diameter ** 2 / 4.0 / self.reference_area
+        return (lift_drag(nu_r, rho, self.reference_area, cd0, self.diameter, self.oswald)
+                + crossflow_drag(nu_r, rho, self.length, self.diameter, self.crossflow_cd, self.strips))
+
+
+@dataclass(frozen=True)
 class VehicleHydro:
     """A vehicle's hydrodynamic parameters (Fossen's form; body frame x forward, y left, z up).
 
@@ -55,6 +89,11 @@ class VehicleHydro:
         added_mass: M_A, 6x6 or its diagonal (kg, kg m, kg m^2), symmetric, positive definite.
         linear_damping: D_L, 6x6 or its diagonal (N s/m, N m s/rad ...).
         quadratic_damping: D_Q per axis, 6 numbers (N s^2/m^2, N m s^2/rad^2).
+        linear_damping_fade: per axis (s/m): D_L's row k is scaled by exp(-fade_k U_r), U_r the
+            relative speed (Fossen's REMUS 100 fades surge and sway linear damping so).
+        coriolis_zeroed: (row, column) entries of C_A(nu_r) left out (0-based, Fossen's axis
+            order u v w p q r), as Fossen's REMUS 100 model drops the Munk moments.
+        hull: a torpedo's hull lift and drag (None: none).
     """
 
     volume: float
@@ -62,6 +101,9 @@ class VehicleHydro:
     added_mass: np.ndarray = field(default_factory=lambda: np.zeros(6))
     linear_damping: np.ndarray = field(default_factory=lambda: np.zeros(6))
     quadratic_damping: np.ndarray = field(default_factory=lambda: np.zeros(6))
+    linear_damping_fade: np.ndarray = field(default_factory=lambda: np.zeros(6))
+    coriolis_zeroed: tuple = ()
+    hull: Hull | None = None
 
     def __post_init__(self):
         _checks.non_negative("hydro.volume", self.volume, "m^3")
@@ -78,6 +120,16 @@ class VehicleHydro:
         if q.shape != (6,) or not np.all(np.isfinite(q)) or np.any(q < 0):
             raise ValueError("hydro.quadratic_damping must be 6 numbers >= 0")
         object.__setattr__(self, "quadratic_damping", q)
+        f = np.asarray(self.linear_damping_fade, dtype=float)
+        if f.shape != (6,) or not np.all(np.isfinite(f)) or np.any(f < 0):
+            raise ValueError("hydro.linear_damping_fade must be 6 numbers >= 0 (s/m)")
+        object.__setattr__(self, "linear_damping_fade", f)
+        pairs = tuple((int(i), int(j)) for i, j in self.coriolis_zeroed)
+        if any(not (0 <= i < 6 and 0 <= j < 6) for i, j in pairs):
+            raise ValueError(f"hydro.coriolis_zeroed must be (row, column) pairs in 0..5, got {self.coriolis_zeroed!r}")
+        object.__setattr__(self, "coriolis_zeroed", pairs)
+        if self.hull is not None and not isinstance(self.hull, Hull):
+            raise ValueError("hydro.hull must be a Hull")
 
 
 @dataclass
@@ -86,6 +138,8 @@ class VehicleModel:
 
     name: str
     hydro: VehicleHydro
+    fins: tuple = ()  # fins.Fin, their actuators named {name}/{fin.name}
+    propeller: Propeller | None = None  # its actuator named {name}/{propeller.name}
 
 
 def add_vehicle(spec: mujoco.MjSpec, name: str, *, mass: float, inertia, hydro: VehicleHydro,
@@ -147,6 +201,14 @@ class BoundVehicle:
         self._has_explicit = bool(np.any(self._explicit != 0.0))
         self._M_lin = MA[:3, :3].copy()
         self._r_b = np.asarray(vm.hydro.centre_of_buoyancy, dtype=float)
+        self._zeroed = tuple(np.array(ij, dtype=int) for ij in zip(*vm.hydro.coriolis_zeroed)) or None
+        self._fade = vm.hydro.linear_damping_fade if np.any(vm.hydro.linear_damping_fade) else None
+        self.fins, self.propeller = tuple(vm.fins), vm.propeller
+        # the fins' angles and the shaft speed are their actuators' activations
+        self._fin_act = np.array([model.actuator_actadr[model.actuator(f"{vm.name}/{f.name}").id]
+                                  for f in self.fins], dtype=int)
+        self._prop_act = (None if vm.propeller is None else
+                          int(model.actuator_actadr[model.actuator(f"{vm.name}/{vm.propeller.name}").id]))
         make_not_simple(model, self.id)
         self._orient(np.eye(3))
 
@@ -169,9 +231,25 @@ class BoundVehicle:
         nu_r = nu - nu_c
         h = self.hydro
         MA = h.added_mass
-        tau = -(m2c(MA, nu_r) @ nu_r) - damping_force(nu_r, h.linear_damping, h.quadratic_damping)
+        CA = m2c(MA, nu_r)
+        if self._zeroed is not None:
+            CA[self._zeroed] = 0.0
+        DL = h.linear_damping
+        if self._fade is not None:
+            DL = np.exp(-self._fade * math.sqrt(float(nu_r[:3] @ nu_r[:3])))[:, None] * DL
+        tau = -(CA @ nu_r) - damping_force(nu_r, DL, h.quadratic_damping)
         tau[:3] += self._M_lin @ cross(nu[3:], nu_r[:3])
-        B = float(self.water.rho(z)[0]) * self.water.gravity * h.volume
+        rho = float(self.water.rho(z)[0])
+        if h.hull is not None:
+            tau += h.hull.wrench(nu_r, rho)
+        for fin, adr in zip(self.fins, self._fin_act):
+            tau += fin_wrench(nu_r, float(data.act[adr]), fin, rho)
+        if self.propeller is not None:
+            p = self.propeller
+            thrust, torque = p.thrust(float(data.act[self._prop_act]), float(nu_r[0]), rho)
+            r = p.position
+            tau += (thrust, 0.0, 0.0, torque, r[2] * thrust, -r[1] * thrust)
+        B = rho * self.water.gravity * h.volume
         tau -= restoring_force(R, 0.0, B, np.zeros(3), self._r_b)  # the buoyancy (MuJoCo weighs it)
         if self._has_explicit:  # the rest of M_A nu', from the last step's acceleration
             a = np.concatenate([R.T @ data.qacc[self._v] - cross(nu[3:], nu[:3]), data.qacc[self._w]])

@@ -7,14 +7,23 @@ The file's tables (units SI; body frame x forward, y left, z up; see ``vehicle``
 
     [vehicle]      name, mass, inertia, centre_of_gravity, size (drawn ellipsoid semi-axes),
                    tow_point, sources (a table: parameter -> where it comes from)
-    [hydro]        volume, centre_of_buoyancy, added_mass, linear_damping, quadratic_damping
+    [hydro]        volume, centre_of_buoyancy, added_mass, linear_damping, quadratic_damping,
+                   linear_damping_fade, coriolis_zeroed
+    [hull]         length, diameter, axial_cd, crossflow_cd, reference_area, oswald, strips
+                   (a torpedo's hull lift and drag, ``vehicle.Hull``)
     [[thrusters]]  name, position, direction, max_forward, max_reverse, time_constant
+    [[fins]]       name, position, lift_direction, area, cl_delta, max_angle_deg, time_constant,
+                   stall_angle_deg, post_stall_lift (``fins.Fin``)
+    [propeller]    name, position, diameter, kt0, kt_max, ja_max, kq0, kq_max, thrust_deduction,
+                   wake_fraction, max_rpm, time_constant, torque_scale (``propeller.Propeller``)
     [autopilot]    speed_kp, speed_ki, heading_kp, heading_kd, heading_ki, depth_kp, depth_kd, depth_ki,
-                   roll_kp, roll_kd, pitch_kp, pitch_kd, station_kp, station_kd
+                   roll_kp, roll_kd, pitch_kp, pitch_kd, station_kp, station_kd,
+                   depth_by_pitch, depth_pitch_kp, depth_pitch_ki, max_pitch_deg
 """
 
 from __future__ import annotations
 
+import math
 import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -22,17 +31,28 @@ from pathlib import Path
 import mujoco
 import numpy as np
 
+from .fins import Fin, add_fin
 from .packagedata import asset_dir
+from .propeller import Propeller, add_propeller
 from .thruster import Thruster, add_thruster
-from .vehicle import VehicleHydro, VehicleModel, add_vehicle
+from .vehicle import Hull, VehicleHydro, VehicleModel, add_vehicle
 
 KEYS = {
     "vehicle": {"name", "mass", "inertia", "centre_of_gravity", "size", "tow_point", "sources"},
-    "hydro": {"volume", "centre_of_buoyancy", "added_mass", "linear_damping", "quadratic_damping"},
+    "hydro": {"volume", "centre_of_buoyancy", "added_mass", "linear_damping", "quadratic_damping",
+              "linear_damping_fade", "coriolis_zeroed"},
+    "hull": {"length", "diameter", "axial_cd", "crossflow_cd", "reference_area", "oswald", "strips"},
     "thrusters": {"name", "position", "direction", "max_forward", "max_reverse", "time_constant"},
+    "fins": {"name", "position", "lift_direction", "area", "cl_delta", "max_angle_deg", "time_constant",
+             "stall_angle_deg", "post_stall_lift"},
+    "propeller": {"name", "position", "diameter", "kt0", "kt_max", "ja_max", "kq0", "kq_max", "thrust_deduction",
+                  "wake_fraction", "max_rpm", "time_constant", "torque_scale"},
     "autopilot": {"speed_kp", "speed_ki", "heading_kp", "heading_kd", "heading_ki", "depth_kp", "depth_kd",
-                  "depth_ki", "roll_kp", "roll_kd", "pitch_kp", "pitch_kd", "station_kp", "station_kd"},
+                  "depth_ki", "roll_kp", "roll_kd", "pitch_kp", "pitch_kd", "station_kp", "station_kd",
+                  "depth_by_pitch", "depth_pitch_kp", "depth_pitch_ki", "max_pitch_deg"},
 }
+LISTS = ("thrusters", "fins")
+"""The tables that may repeat ([[thrusters]], [[fins]])."""
 
 
 @dataclass(frozen=True)
@@ -43,7 +63,10 @@ class Autopilot:
     (N per m, N s/m, N per m s); for a vehicle whose thrusters can (an ROV), level attitude:
     K = -kp phi - kd p, M = -kp theta - kd q (N m per rad, N m s; 0: left to its restoring);
     station keeping (an ROV): horizontal force kp e - kd v on the position error in the body frame
-    (N per m, N s/m)."""
+    (N per m, N s/m). A vehicle that cannot push itself up or down (a torpedo:
+    ``depth_by_pitch``) holds depth by pitching: the pitch it asks for is
+    depth_pitch_kp e_z + depth_pitch_ki int(e_z) (deg per m, deg per m s), within
+    +-``max_pitch_deg``, held by the pitch loop M = pitch_kp (theta_d - theta) - pitch_kd q."""
 
     speed_kp: float = 0.0
     speed_ki: float = 0.0
@@ -59,6 +82,10 @@ class Autopilot:
     pitch_kd: float = 0.0
     station_kp: float = 0.0
     station_kd: float = 0.0
+    depth_by_pitch: bool = False
+    depth_pitch_kp: float = 0.0
+    depth_pitch_ki: float = 0.0
+    max_pitch_deg: float = 20.0
 
 
 @dataclass(frozen=True)
@@ -73,6 +100,8 @@ class VehicleSpec:
     tow_point: tuple
     hydro: VehicleHydro
     thrusters: tuple = ()
+    fins: tuple = ()
+    propeller: Propeller | None = None
     autopilot: Autopilot = field(default_factory=Autopilot)
     sources: dict = field(default_factory=dict)
     path: str = ""
@@ -105,9 +134,9 @@ def load_vehicle(name_or_path) -> VehicleSpec:
         raise ValueError(f"vehicle file {p}: {exc}") from None
     where = p.name
     for table, keys in KEYS.items():
-        items = tree.get(table, [] if table == "thrusters" else {})
-        for k, item in enumerate(items if table == "thrusters" else [items]):
-            label = f"{table}[{k}]" if table == "thrusters" else table
+        items = tree.get(table, [] if table in LISTS else {})
+        for k, item in enumerate(items if table in LISTS else [items]):
+            label = f"{table}[{k}]" if table in LISTS else table
             unknown = sorted(set(item) - keys)
             if unknown:
                 raise ValueError(f"{where}: unknown key {label}.{unknown[0]}; allowed: {', '.join(sorted(keys))}")
@@ -119,11 +148,16 @@ def load_vehicle(name_or_path) -> VehicleSpec:
         if key not in item:
             raise ValueError(f"{where}: {table}.{key} is required")
     try:
+        hull = Hull(**tree["hull"]) if "hull" in tree else None
         hydro = VehicleHydro(volume=h["volume"], centre_of_buoyancy=h.get("centre_of_buoyancy", (0.0, 0.0, 0.0)),
                              added_mass=h.get("added_mass", np.zeros(6)),
                              linear_damping=h.get("linear_damping", np.zeros(6)),
-                             quadratic_damping=h.get("quadratic_damping", np.zeros(6)))
+                             quadratic_damping=h.get("quadratic_damping", np.zeros(6)),
+                             linear_damping_fade=h.get("linear_damping_fade", np.zeros(6)),
+                             coriolis_zeroed=tuple(h.get("coriolis_zeroed", ())), hull=hull)
         thrusters = tuple(Thruster(**t) for t in tree.get("thrusters", []))
+        fins = tuple(_fin(f) for f in tree.get("fins", []))
+        propeller = Propeller(**tree["propeller"]) if "propeller" in tree else None
         autopilot = Autopilot(**tree.get("autopilot", {}))
     except (TypeError, ValueError) as exc:
         raise ValueError(f"{where}: {exc}") from None
@@ -132,18 +166,35 @@ def load_vehicle(name_or_path) -> VehicleSpec:
     return VehicleSpec(name=str(v.get("name", p.stem)), mass=float(v["mass"]), inertia=tuple(v["inertia"]),
                        centre_of_gravity=tuple(v.get("centre_of_gravity", (0.0, 0.0, 0.0))),
                        size=tuple(v.get("size", (0.5, 0.2, 0.2))), tow_point=tuple(v.get("tow_point", (0.0, 0.0, 0.0))),
-                       hydro=hydro, thrusters=thrusters, autopilot=autopilot, sources=dict(v.get("sources", {})),
+                       hydro=hydro, thrusters=thrusters, fins=fins, propeller=propeller, autopilot=autopilot,
+                       sources=dict(v.get("sources", {})),
                        path=str(p))
 
 
+def _fin(table: dict) -> Fin:
+    """A [[fins]] table (angles in degrees) as a ``Fin`` (radians)."""
+    t = dict(table)
+    for key in ("max_angle_deg", "stall_angle_deg"):
+        if key in t:
+            t[key[:-4]] = math.radians(float(t.pop(key)))
+    if "max_angle" not in t:
+        raise ValueError(f"fins {t.get('name', '?')}: max_angle_deg is required")
+    return Fin(**t)
+
+
 def build_vehicle(spec: mujoco.MjSpec, vs: VehicleSpec, name: str = "vehicle", pos=(0.0, 0.0, 0.0)) -> VehicleModel:
-    """Add ``vs`` to ``spec`` as body ``name`` at ``pos`` (m, world): its body, thrusters
-    (actuators ``{name}/{thruster}``) and tow point site ``{name}/tow_point``."""
+    """Add ``vs`` to ``spec`` as body ``name`` at ``pos`` (m, world): its body, thrusters, fins
+    and propeller (actuators ``{name}/{part}``) and tow point site ``{name}/tow_point``."""
     vm = add_vehicle(spec, name, mass=vs.mass, inertia=vs.inertia, hydro=vs.hydro,
                      centre_of_gravity=vs.centre_of_gravity, pos=pos, size=vs.size)
     spec.body(name).add_site(name=f"{name}/tow_point", pos=list(vs.tow_point), size=[0.02, 0.0, 0.0])
     for th in vs.thrusters:
         add_thruster(spec, name, th)
+    for fin in vs.fins:
+        add_fin(spec, name, fin)
+    if vs.propeller is not None:
+        add_propeller(spec, name, vs.propeller)
+    vm.fins, vm.propeller = vs.fins, vs.propeller
     return vm
 
 

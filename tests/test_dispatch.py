@@ -1,6 +1,7 @@
 """Two simulations in one process never see each other's forces."""
 
 import numpy as np
+import pytest
 
 import mjtether as mt
 from conftest import new_spec
@@ -48,3 +49,25 @@ def test_close_removes_forces():
     import mujoco
     mujoco.mj_step(sim.model, sim.data)
     assert np.all(sim.data.qfrc_passive == 0.0)
+
+
+def test_a_provider_failing_on_the_first_state_leaves_nothing_registered(monkeypatch):
+    """A force provider that raises while the simulation is being made (its first mj_forward)
+    raises from the constructor, and the half-made simulation is unregistered (there is no
+    object to close)."""
+    import mujoco
+
+    import mjtether.vehicle
+    from mjtether.vehicles import build_vehicle, load_vehicle
+
+    spec = mujoco.MjSpec()
+    vm = build_vehicle(spec, load_vehicle("remus100"), "auv", pos=(0.0, 0.0, -10.0))
+
+    def fails(self, model, data):
+        raise ArithmeticError("a provider failed")
+
+    monkeypatch.setattr(mjtether.vehicle.BoundVehicle, "apply", fails)
+    before = mt.dispatch.active_count()
+    with pytest.raises(ArithmeticError, match="a provider failed"):
+        mt.Simulation(spec, mt.WaterColumn(depth=100.0), bodies=[vm])
+    assert mt.dispatch.active_count() == before
