@@ -199,10 +199,11 @@ def _run(args) -> int:
         print("mjtether run: interrupted; no results written", file=sys.stderr)
         return 130
     s = results.summary(sc, rows, info, args.scenario)
+    tensions = (f"final ship-end tension {s['final']['ship_tension_N']:.0f} N, tow tension "
+                f"{s['final']['tow_tension_N']:.0f} N; peak {s['peak']['ship_tension_N']:.0f} N"
+                if info["tethered"] else "no tether")
     print(f"{info['simulated_s']:.0f} s simulated in {info['wall_time_s']:.1f} s "
-          f"({info['realtime_factor']:.1f}x real time); final ship-end tension {s['final']['ship_tension_N']:.0f} N, "
-          f"tow tension {s['final']['tow_tension_N']:.0f} N; peak {s['peak']['ship_tension_N']:.0f} N; "
-          f"results in {out}/")
+          f"({info['realtime_factor']:.1f}x real time); {tensions}; results in {out}/")
     return 0
 
 
@@ -226,8 +227,9 @@ def _render(args) -> int:
         return 1
     info = done[2]
     v = info["video"]
+    colours = f"tension colours 0-{v['tension_scale_N']:g} N" if info["tethered"] else "no tether"
     print(f"{v['frames']} frames ({info['simulated_s']:.1f} s at {v['fps']:g} fps, camera {v['camera']}) in "
-          f"{info['wall_time_s']:.1f} s; tension colours 0-{v['tension_scale_N']:g} N; wrote {v['file']}")
+          f"{info['wall_time_s']:.1f} s; {colours}; wrote {v['file']}")
     return 0
 
 

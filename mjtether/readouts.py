@@ -57,13 +57,53 @@ def roll_pitch(R: np.ndarray) -> tuple[float, float]:
     return math.atan2(R[2, 1], R[2, 2]), math.asin(max(-1.0, min(1.0, -R[2, 0])))
 
 
+TETHER_FIELDS = ("ship_tension", "ship_force_x", "ship_force_y", "ship_force_z", "tow_tension", "tow_force_x",
+                 "tow_force_y", "tow_force_z", "tow_force_body_x", "tow_force_body_y", "tow_force_body_z",
+                 "cable_moment_x", "cable_moment_y", "cable_moment_z", "deployed_length", "payout_rate",
+                 "tether_lowest_z", "length_on_seabed", "slack_elements")
+"""The record's columns that describe the tether: a run without one (``tether.attached = false``)
+writes the others only."""
+
+
+class NoTether:
+    """What a run without a tether reads where a tether would be (the ``BoundTether`` readouts
+    ``Readouts`` uses): nothing deployed, a single node at the ship's fairlead, no forces."""
+
+    first = 0
+    deployed_length = 0.0
+    rest_lengths = np.zeros(0)
+
+    def __init__(self, model, data):
+        self._fairlead = model.site("ship/fairlead").id
+
+    def end_force(self, data, end: str) -> np.ndarray:
+        return np.zeros(3)
+
+    def end_tension(self, data, end: str) -> float:
+        return 0.0
+
+    def nodes(self, data) -> np.ndarray:
+        return data.site_xpos[self._fairlead][None, :].copy()
+
+    all_nodes = nodes
+
+    def tension(self, data) -> np.ndarray:
+        return np.zeros(0)
+
+    element_tension = element_length = tension
+
+    def slack_count(self, data) -> int:
+        return 0
+
+
 class Readouts:
     """The named readouts of ``run`` (a ``runner.ScenarioRun``), read from its simulation's
     current state."""
 
     def __init__(self, run):
         self._run = run
-        self._sim, self._bt = run.sim, run.sim.tether()
+        self._sim = run.sim
+        self._bt = run.bt if run.bt is not None else NoTether(run.sim.model, run.sim.data)
         m = run.sim.model
         self.ship_mocap = m.body("ship").mocapid[0]
         """Mocap index of the ship's body."""

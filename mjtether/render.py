@@ -232,7 +232,8 @@ class FrameRenderer:
         mujoco.mjr_setBuffer(mujoco.mjtFramebuffer.mjFB_OFFSCREEN, self.ctx)
         # room for what mjv_updateScene draws (geoms, sites, tendons) and what is added here:
         # a scene that is full drops the rest of the tether, the arrows and the markers
-        self.scene = mujoco.MjvScene(m, maxgeom=m.ngeom + m.nsite + m.ntendon + runner.bt.n + s.current_arrows + 100)
+        self.scene = mujoco.MjvScene(m, maxgeom=m.ngeom + m.nsite + m.ntendon + len(runner.named.tether_nodes) + s.current_arrows
+                                    + 100)
         if s.tuned:
             for f in (mujoco.mjtRndFlag.mjRND_SHADOW, mujoco.mjtRndFlag.mjRND_REFLECTION,
                       mujoco.mjtRndFlag.mjRND_SKYBOX):
@@ -259,7 +260,7 @@ class FrameRenderer:
         if math.isfinite(rated):
             return float(rated)
         t = self.runner.named.tether_tension
-        return nice_scale(2.0 * max(float(t.max()), 1.0))
+        return nice_scale(2.0 * max(float(t.max(initial=0.0)), 1.0))
 
     def _extent(self, x: np.ndarray):
         """Centre and size (m) of the box around the tether, ship and robot."""
@@ -342,6 +343,13 @@ class FrameRenderer:
 
     def _overlay(self) -> None:
         n = self.runner.named
+        if not self.runner.tethered:  # a vehicle alone: its speed, depth and heading, no colour bar
+            left = "time\nspeed\ndepth\nheading"
+            right = (f"{n.time:7.2f} s\n{n.robot_speed:7.2f} m/s\n{-n.robot_position[2]:7.1f} m\n"
+                     f"{math.degrees(n.robot_heading):7.0f} deg")
+            mujoco.mjr_overlay(mujoco.mjtFont.mjFONT_NORMAL, mujoco.mjtGridPos.mjGRID_TOPLEFT, self.viewport,
+                               left, right, self.ctx)
+            return
         left = "time\ntow tension\nship tension\ndeployed"
         right = f"{n.time:7.2f} s\n{n.tow_tension:7.0f} N\n{n.ship_tension:7.0f} N\n{n.deployed_length:7.1f} m"
         mujoco.mjr_overlay(mujoco.mjtFont.mjFONT_NORMAL, mujoco.mjtGridPos.mjGRID_TOPLEFT, self.viewport,
@@ -361,7 +369,7 @@ class FrameRenderer:
         r = self.runner
         m, d = r.sim.model, r.sim.data
         x = r.named.tether_nodes
-        view = self._place_camera(x)
+        view = self._place_camera(x if r.tethered else np.vstack([x, r.named.robot_position]))
         mujoco.mjv_updateScene(m, d, self.opt, None, self.cam, mujoco.mjtCatBit.mjCAT_ALL, self.scene)
         width = max(r.end_diameter / 2, 0.0025 * view)
         self._add_tether(x, r.named.tether_tension, width)

@@ -3,7 +3,9 @@
 Files (all SI units; ``docs/scenarios.md`` lists the CSV columns):
 
 * ``timeseries.csv``: one row per output sample, columns ``runner.RECORD_FIELDS`` named
-  ``<name>_<unit>``;
+  ``<name>_<unit>`` (without the tether's, ``readouts.TETHER_FIELDS``, for a vehicle run
+  without one, ``tether.attached = false``: then there is no ``tether.npz``, ``tension.png``
+  nor ``profile.png`` either);
 * ``tether.npz``: ``time`` (n,) s; ``nodes`` (n, e+1, 3), node positions in m; ``tension``
   (n, e), element tensions in N (never negative: elements carry tension only; 0 when slack);
   ``element_length`` (n, e), stretched element lengths in m. The e elements allocated are
@@ -37,12 +39,15 @@ import numpy as np
 from .builder import seabed_height
 from .water import WaterColumn
 from .outdir import Staging, check_target
+from .readouts import TETHER_FIELDS
 from .runner import RECORD_FIELDS
 
 
-def column_names() -> list[str]:
+def column_names(tethered: bool = True) -> list[str]:
+    """The CSV's column names (``name_unit``), those of ``RECORD_FIELDS`` less the tether's
+    (``readouts.TETHER_FIELDS``) for a run without one."""
     return [f"{name}_{unit.replace(' ', '').replace('/', 'per')}" if unit else name
-            for name, unit, _ in RECORD_FIELDS]
+            for name, unit, _ in RECORD_FIELDS if tethered or name not in TETHER_FIELDS]
 
 
 def _jsonable(x):
@@ -59,7 +64,7 @@ def _jsonable(x):
 
 def summary(sc, rows: np.ndarray, info: dict, scenario_path) -> dict:
     col = {name: i for i, (name, _, _) in enumerate(RECORD_FIELDS)}
-    return {
+    out = {
         "scenario_file": None if scenario_path is None else str(scenario_path),
         "scenario": _jsonable(sc.to_dict()),
         "samples": int(len(rows)),
@@ -71,6 +76,10 @@ def summary(sc, rows: np.ndarray, info: dict, scenario_path) -> dict:
                  "tow_tension_N": float(rows[:, col["tow_tension"]].max())},
         "run": _jsonable(info),
     }
+    if not info.get("tethered", True):  # no tether: no tensions to report
+        out["final"] = {"time_s": out["final"]["time_s"]}
+        del out["peak"]
+    return out
 
 
 def write(out, sc: dict, rows: np.ndarray, history: dict, info: dict, scenario_path=None,
@@ -83,18 +92,21 @@ def write(out, sc: dict, rows: np.ndarray, history: dict, info: dict, scenario_p
     checks ``out`` before simulating; it is checked again here for callers from Python."""
     target = check_target(out, overwrite=overwrite, protect=[scenario_path] if scenario_path else ())
     nodes = history["nodes"]
+    tethered = info.get("tethered", True)
+    keep = [i for i, (name, _, _) in enumerate(RECORD_FIELDS) if tethered or name not in TETHER_FIELDS]
     with Staging(target, overwrite=overwrite) as stage:
         tmp = stage.path
         with open(tmp / "timeseries.csv", "w", newline="") as fh:
             w = csv.writer(fh)
-            w.writerow(column_names())
+            w.writerow(column_names(tethered))
             for r in rows:
-                w.writerow([f"{v:.9g}" for v in r])
-        np.savez_compressed(tmp / "tether.npz", time=rows[:, 0], nodes=nodes, tension=history["tension"],
-                            element_length=history["element_length"])
+                w.writerow([f"{v:.9g}" for v in r[keep]])
+        if tethered:
+            np.savez_compressed(tmp / "tether.npz", time=rows[:, 0], nodes=nodes, tension=history["tension"],
+                                element_length=history["element_length"])
         (tmp / "summary.json").write_text(json.dumps(summary(sc, rows, info, scenario_path), indent=2))
         if plots:
-            _plots(tmp, rows, nodes, sc)
+            _plots(tmp, rows, nodes, sc, tethered)
         for name, path in (extra_files or {}).items():
             shutil.move(str(path), tmp / name)
         return stage.commit()
@@ -266,12 +278,14 @@ def track_figure(rows: np.ndarray, sc):
     return fig
 
 
-def _plots(folder: Path, rows: np.ndarray, nodes: np.ndarray, sc) -> None:
-    """Write tension.png, profile.png and track.png into ``folder``."""
+def _plots(folder: Path, rows: np.ndarray, nodes: np.ndarray, sc, tethered: bool = True) -> None:
+    """Write tension.png, profile.png and track.png into ``folder`` (track.png only for a run
+    without a tether)."""
     plt = _pyplot()
-    for name, make in (("tension.png", lambda: tension_figure(rows)),
-                       ("profile.png", lambda: profile_figure(rows, nodes, sc)),
-                       ("track.png", lambda: track_figure(rows, sc))):
+    figures = (("tension.png", lambda: tension_figure(rows)),
+               ("profile.png", lambda: profile_figure(rows, nodes, sc)),
+               ("track.png", lambda: track_figure(rows, sc)))
+    for name, make in figures if tethered else figures[2:]:
         fig = make()
         try:
             fig.savefig(folder / name, dpi=110)

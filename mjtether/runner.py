@@ -74,10 +74,16 @@ class ScenarioRun:
             robot = scene.anchor_point()
             end = builder.FixedPoint(robot)
         self.robot_position = robot
+        self.tethered = sc.tether.attached
         top = np.array(spec.body("ship").pos)
-        self.initial, self.initial_note = start.steady_start(scene, top, robot, dt)
+        if self.tethered:
+            self.initial, self.initial_note = start.steady_start(scene, top, robot, dt)
+        else:
+            self.initial, self.initial_note = None, "no tether: the vehicle runs alone, level and at rest"
         how = sc.simulation.start
-        if how == "settle" or (how == "auto" and self.initial is None):
+        if not self.tethered:
+            settle = False
+        elif how == "settle" or (how == "auto" and self.initial is None):
             settle, self.initial = True, None
             held = "on its autopilot" if self.is_vehicle else "held"
             self.initial_note = f"settled with the robot {held}" + (
@@ -87,18 +93,20 @@ class ScenarioRun:
                             "the cable fall into place while the robot is held")
         else:
             settle = False
-        nodes = start.fallback_nodes(scene, top, robot) if settle else self.initial.nodes
         if settle and self.walker:  # held in place while the cable settles
             hold = spec.add_equality(name="walker/hold", type=mujoco.mjtEq.mjEQ_WELD, objtype=mujoco.mjtObj.mjOBJ_BODY,
                                      name1="walker/torso")
             hold.active = True
-        self.tm = builder.add_tether(spec, self.line, builder.SitePoint("ship/fairlead"), end,
-                                     water=self.water, nodes=nodes, seabed_friction=sc.tether.seabed_friction,
-                                     seabed_stiffness=sc.water.seabed_stiffness or None,
-                                     seabed_damping=sc.water.seabed_damping,
-                                     max_length=None if self.makeup is not None else self.winch.max_length,
-                                     end_at=robot if self.walker else None, added_mass=sc.tether.added_mass)
-        self.sim = Simulation(spec, self.water, tethers=[self.tm], bodies=scene.bodies)
+        self.tm = None
+        if self.tethered:
+            nodes = start.fallback_nodes(scene, top, robot) if settle else self.initial.nodes
+            self.tm = builder.add_tether(spec, self.line, builder.SitePoint("ship/fairlead"), end,
+                                         water=self.water, nodes=nodes, seabed_friction=sc.tether.seabed_friction,
+                                         seabed_stiffness=sc.water.seabed_stiffness or None,
+                                         seabed_damping=sc.water.seabed_damping,
+                                         max_length=None if self.makeup is not None else self.winch.max_length,
+                                         end_at=robot if self.walker else None, added_mass=sc.tether.added_mass)
+        self.sim = Simulation(spec, self.water, tethers=[self.tm] if self.tethered else [], bodies=scene.bodies)
         try:
             if self.is_vehicle:  # level, at its start heading, at rest
                 m = self.sim.model
@@ -119,15 +127,16 @@ class ScenarioRun:
                                           manoeuvre=manoeuvre_from(r, vs))
             if self.initial is not None:  # the steady state's seabed friction, carried into the run
                 self.sim.tether().preload_friction(self.sim.data, self.initial.tension)
-            self.bt = self.sim.tether()
+            self.bt = self.sim.tether() if self.tethered else None
             self.named = Readouts(self)
             self.torso, self.tow_site = self.named.torso, self.named.tow_site
             if self.gait_drive is not None:
                 self.gait_drive.bind(self.sim.model, self.sim.data, self.torso)
             # the order they act in at each step: the gait or autopilot, then the ship, then the winch
-            self.controllers = [c for c in (self.gait_drive, self.pilot, self.ship, WinchDrive(self.winch))
-                                if c is not None]
-            start.preroll(self, settle)
+            winch = WinchDrive(self.winch) if self.tethered else None
+            self.controllers = [c for c in (self.gait_drive, self.pilot, self.ship, winch) if c is not None]
+            if self.tethered:  # (alone, a vehicle starts as placed: there are no contacts to load)
+                start.preroll(self, settle)
         except BaseException:
             self.sim.close()  # a run that cannot start leaves nothing registered
             raise
@@ -163,6 +172,8 @@ class ScenarioRun:
         for c in self.controllers:
             c.update(self, t, dt)
         sim.step()
+        if self.bt is None:
+            return
         tension = self.bt.end_tension(sim.data, "start")
         if tension > self.rated_load:
             raise RunFailed(f"ship-end tension {tension:.0f} N exceeded the "
@@ -241,7 +252,8 @@ def run(sc: Scenario, progress=None, keep_nodes: bool = True, video=None, on_sta
         raise
     finally:
         runner.close()
-    info = {"initial_state": runner.initial_note, "wall_time_s": wall, "simulated_s": n_steps * dt,
+    info = {"initial_state": runner.initial_note, "tethered": runner.tethered, "wall_time_s": wall,
+            "simulated_s": n_steps * dt,
             "realtime_factor": n_steps * dt / wall if wall > 0 else math.inf, "steps": n_steps}
     if rec is not None:
         info["video"] = {"file": str(rec.path), "frames": rec.frames, "fps": rec.s.fps, "camera": rec.s.camera,

@@ -230,6 +230,8 @@ class TetherFloats(Section):
 @dataclass(frozen=True)
 class Tether(Section):
     PATH = "tether"
+    attached: bool = param(True, doc="false: no tether; the robot (a vehicle) runs alone: no winch, no cable "
+                           "forces, and timeseries.csv has no tether columns (the other tether keys are not used)")
     length: float = param(300.0, 0.1, MAX_LENGTH, "m", "initial deployed (unstretched) length")
     segments: int = param(TetherSpec.segments, 4, MAX_SEGMENTS, "", "number of elements N (fewer than 4 cannot represent the sag: the "
                           "lumped line's error is O(1/N^2))")
@@ -477,6 +479,8 @@ class Scenario(Section):
         if w.seabed_z(*self.ship.position) >= -1.0:
             bad("ship.position", list(self.ship.position), f"the seabed there is at z = "
                 f"{w.seabed_z(*self.ship.position):.2f} m, above the surface or within 1 m of it")
+        if not self.tether.attached and r.type != "vehicle":
+            bad("tether.attached", "false", f"only a vehicle can run without a tether (robot.type = {r.type!r})")
         wi = self.winch
         if self.tether.is_makeup and wi.mode != "fixed":
             bad("winch.mode", repr(wi.mode), "a tether with sections, point_loads or floats (a line make-up) needs "
