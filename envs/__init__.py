@@ -5,10 +5,13 @@ Importing this package registers:
 * ``mjtether/TetherWinch-v0`` (``TetherWinchEnv``): command the winch behind a walker that
   follows a scripted route;
 * ``mjtether/TetheredWalker-v0`` (``TetheredWalkerEnv``): command the walker's gait and the
-  winch to reach a goal on the seabed.
+  winch to reach a goal on the seabed;
+* ``mjtether/TetheredROV-v0`` (``TetheredROVEnv``): command an ROV's thrusters to hold station
+  (or follow waypoints) at depth in a current on its umbilical.
 
 Hand-written controllers to compare against (``baselines``): ``FollowPayout`` (Khan et al.
-2023, Eq. 30), ``SlantRangePayout``, ``SlackPI`` (tuned; the strongest) and ``SteerToGoal``.
+2023, Eq. 30), ``SlantRangePayout``, ``SlackPI`` (tuned; the strongest), ``SteerToGoal`` and
+``StationKeepingPID``.
 
 >>> import gymnasium as gym, mjtether.envs  # noqa: F401
 >>> env = gym.make("mjtether/TetherWinch-v0")
@@ -16,13 +19,16 @@ Hand-written controllers to compare against (``baselines``): ``FollowPayout`` (K
 
 from gymnasium.envs.registration import register, registry
 
-from .baselines import FollowPayout, SlackPI, SlantRangePayout, SteerToGoal
+from .baselines import FollowPayout, SlackPI, SlantRangePayout, StationKeepingPID, SteerToGoal
 from .tether_winch import TetherWinchEnv
+from .tethered_rov import TetheredROVEnv
 from .tethered_walker import TetheredWalkerEnv
 
-__all__ = ["TetherWinchEnv", "TetheredWalkerEnv", "FollowPayout", "SlantRangePayout", "SlackPI", "SteerToGoal"]
+__all__ = ["TetherWinchEnv", "TetheredWalkerEnv", "TetheredROVEnv", "FollowPayout", "SlantRangePayout", "SlackPI",
+           "SteerToGoal", "StationKeepingPID"]
 
 for _id, _entry, _steps in (("mjtether/TetherWinch-v0", "mjtether.envs.tether_winch:TetherWinchEnv", 600),
-                            ("mjtether/TetheredWalker-v0", "mjtether.envs.tethered_walker:TetheredWalkerEnv", 900)):
+                            ("mjtether/TetheredWalker-v0", "mjtether.envs.tethered_walker:TetheredWalkerEnv", 900),
+                            ("mjtether/TetheredROV-v0", "mjtether.envs.tethered_rov:TetheredROVEnv", 600)):
     if _id not in registry:
         register(id=_id, entry_point=_entry, max_episode_steps=_steps)

@@ -212,7 +212,8 @@ class TetherEnv(gym.Env):
             raise ConfigError(f"{type(self).__name__}: {exc}", exc.key) from None
         for f in fields(cfg):
             setattr(self, f.name, getattr(cfg, f.name))
-        self.min_length = self.depth + 5.0 if cfg.min_length is None else cfg.min_length
+        if hasattr(cfg, "min_length"):  # (TetheredROV-v0's umbilical has a fixed length)
+            self.min_length = self.depth + 5.0 if cfg.min_length is None else cfg.min_length
         self.current_max = KNOT * cfg.current_max_kn
         if render_mode is not None and render_mode not in self.metadata["render_modes"]:
             raise ValueError(f"render_mode must be None or one of {self.metadata['render_modes']}, got {render_mode!r}")

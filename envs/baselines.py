@@ -117,3 +117,32 @@ class SlackPI:
         if abs(rate) < e.max_rate or (err > 0) != (rate > 0):
             self.integral += err * e.dt
         return np.array([np.clip(rate / e.max_rate, -1.0, 1.0)], dtype=np.float32)
+
+
+class StationKeepingPID:
+    """``TetheredROV-v0``: mjtether's vehicle autopilot (``controllers.VehiclePilot``, with the
+    vehicle file's gains: depth and heading PID, roll and pitch PD, a horizontal PD on the
+    position error) holding station on the environment's current target, its thrust commands
+    returned as the action (each as a fraction of the thruster's forward or reverse maximum).
+    Its integrals restart when the environment starts a new episode."""
+
+    def __init__(self):
+        self._runner = self._pilot = None
+
+    def __call__(self, env) -> np.ndarray:
+        from mjtether.controllers import VehiclePilot
+        from mjtether.vehicles import load_vehicle
+
+        e = env.unwrapped
+        r = e.runner
+        x, y, depth, heading = (float(v) for v in e.targets[e.leg])
+        if r is not self._runner:  # a new episode
+            vs = load_vehicle(e.vehicle)
+            self._runner = r
+            self._pilot = VehiclePilot(np.array([[0.0, 0.0, heading, depth]]), vs.autopilot, vs.thrusters, e._acts)
+        p = self._pilot
+        p.setpoints = np.array([[0.0, 0.0, heading, depth]])
+        p.station = (x, y, depth, heading)
+        p.update(r, r.sim.time, e.dt)
+        thrust = r.sim.data.ctrl[e._acts]
+        return np.where(thrust >= 0.0, thrust / e._max_fwd, thrust / np.maximum(e._max_rev, 1e-9)).astype(np.float32)

@@ -290,3 +290,145 @@ def rigid_body_loads(R, p_cob, v_cob, omega, volume, height, drag_cd, drag_area,
         force[j] = R[j, 0] * fb[0] + R[j, 1] * fb[1] + R[j, 2] * fb[2]
         torque[j] = R[j, 0] * tb[0] + R[j, 1] * tb[1] + R[j, 2] * tb[2]
     force[2] += rho * gravity * volume * frac
+
+
+# --------------------------------------------------------------------------- vehicles
+
+
+def vehicle_arrays(hydro, fins, propeller):
+    """The parameters of ``vehicle_wrench`` from a ``VehicleHydro``, its fins and propeller:
+    (zeroed-C_A mask (6, 6), hull (8,), fins (k, 10), propeller (13,))."""
+    keep = np.ones((6, 6))
+    for i, j in hydro.coriolis_zeroed:
+        keep[i, j] = 0.0
+    h = hydro.hull
+    hull = np.zeros(8) if h is None else np.array(
+        [1.0, h.length, h.diameter, h.axial_cd, h.crossflow_cd, h.reference_area, h.oswald, h.strips], dtype=float)
+    fin = np.array([[*f.position, *f.lift_direction, f.area, f.cl_delta,
+                     -1.0 if f.stall_angle is None else f.stall_angle, f.post_stall_lift] for f in fins],
+                   dtype=float).reshape(-1, 10)
+    p = propeller
+    prop = np.zeros(13) if p is None else np.array(
+        [1.0, *p.position, p.diameter, p.kt0, p.kt_max, p.ja_max, p.kq0, p.kq_max, p.thrust_deduction,
+         p.wake_fraction, p.torque_scale], dtype=float)
+    return keep, hull, fin, prop
+
+
+@_jit
+def vehicle_wrench(nu, R, z, dkind, dp, ckind, cp, gravity, MA, keep, DL, fade, DQ, Mlin, volume, r_b, hull, fins,
+                   deltas, prop, rpm, tau):
+    """``vehicle.BoundVehicle``'s explicit wrench (body frame, N and N m about the origin) into
+    ``tau`` (6,): -C_A(nu_r) nu_r (``keep``: 0 where an entry is left out), -D(nu_r) nu_r (rows of
+    D_L faded by exp(-fade U_r)), M_A (omega x nu_r), the buoyancy at r_b, the hull's lift and
+    drag, the fins' and the propeller's (``vehicle_arrays``); the water at height ``z`` (m,
+    <= 0) as codes (``profile_codes``). The NumPy reference: ``BoundVehicle.wrench``."""
+    depth = max(-z, 0.0)
+    rho = _density(dkind, dp, depth)
+    u = np.zeros(3)
+    if ckind == 4:
+        m = cp.shape[0] // 3
+        u[0] = np.interp(depth, cp[:m], cp[m:2 * m])
+        u[1] = np.interp(depth, cp[:m], cp[2 * m:])
+    else:
+        speed = _speed(ckind, cp, depth)
+        u[0] = speed * math.cos(cp[cp.shape[0] - 1])
+        u[1] = speed * math.sin(cp[cp.shape[0] - 1])
+    nr = np.empty(6)
+    for k in range(3):
+        nr[k] = nu[k] - (R[0, k] * u[0] + R[1, k] * u[1] + R[2, k] * u[2])
+        nr[3 + k] = nu[3 + k]
+    # C_A(nu_r) of the symmetric part of M_A (fossen.m2c), entries left out where keep = 0
+    h = np.zeros(6)
+    for i in range(6):
+        for j in range(6):
+            h[i] += 0.5 * (MA[i, j] + MA[j, i]) * nr[j]
+    C = np.zeros((6, 6))
+    for (r0, c0, a) in ((0, 3, 0), (3, 0, 0), (3, 3, 3)):  # -S(h1), -S(h1), -S(h2)
+        C[r0 + 0, c0 + 1] = h[a + 2]
+        C[r0 + 0, c0 + 2] = -h[a + 1]
+        C[r0 + 1, c0 + 0] = -h[a + 2]
+        C[r0 + 1, c0 + 2] = h[a + 0]
+        C[r0 + 2, c0 + 0] = h[a + 1]
+        C[r0 + 2, c0 + 1] = -h[a + 0]
+    U = math.sqrt(nr[0] * nr[0] + nr[1] * nr[1] + nr[2] * nr[2])
+    for i in range(6):
+        s = 0.0
+        f = math.exp(-fade[i] * U)
+        for j in range(6):
+            s += C[i, j] * keep[i, j] * nr[j] + f * DL[i, j] * nr[j]
+        tau[i] = -s - DQ[i] * abs(nr[i]) * nr[i]
+    # M_A (omega x nu_r) on the linear block
+    c0 = nu[4] * nr[2] - nu[5] * nr[1]
+    c1 = nu[5] * nr[0] - nu[3] * nr[2]
+    c2 = nu[3] * nr[1] - nu[4] * nr[0]
+    for i in range(3):
+        tau[i] += Mlin[i, 0] * c0 + Mlin[i, 1] * c1 + Mlin[i, 2] * c2
+    # buoyancy at r_b (the weight is MuJoCo's)
+    B = rho * gravity * volume
+    fb0, fb1, fb2 = R[2, 0] * B, R[2, 1] * B, R[2, 2] * B
+    tau[0] += fb0
+    tau[1] += fb1
+    tau[2] += fb2
+    tau[3] += r_b[1] * fb2 - r_b[2] * fb1
+    tau[4] += r_b[2] * fb0 - r_b[0] * fb2
+    tau[5] += r_b[0] * fb1 - r_b[1] * fb0
+    if hull[0] > 0.0:  # fossen.lift_drag and fossen.crossflow_drag
+        L, D, cd2d, area, oswald, strips = hull[1], hull[2], hull[4], hull[5], hull[6], int(hull[7])
+        cd0 = hull[3] * math.pi * D * D / 4.0 / area
+        hx = math.hypot(nr[0], nr[2])
+        if hx > 0.0:
+            alpha = math.atan2(nr[2], abs(nr[0]))
+            AR = D * D / area
+            CL = math.pi * AR / (1.0 + math.sqrt(1.0 + (AR / 2.0) ** 2)) * alpha
+            CD = cd0 + CL * CL / (math.pi * oswald * AR)
+            q = 0.5 * rho * U * U * area
+            lift, drag = q * CL, q * CD
+            sgn = 1.0 if nr[0] >= 0.0 else -1.0
+            tau[0] += -drag * nr[0] / hx + lift * sgn * math.sin(alpha)
+            tau[2] += -drag * nr[2] / hx - lift * math.cos(alpha)
+        dx = L / strips
+        for k in range(strips):
+            x = (k + 0.5) * dx - 0.5 * L
+            vy = nr[1] + x * nr[5]
+            vz = nr[2] - x * nr[4]
+            kk = -0.5 * rho * D * cd2d * dx * math.hypot(vy, vz)
+            tau[1] += kk * vy
+            tau[2] += kk * vz
+            tau[4] -= x * kk * vz
+            tau[5] += x * kk * vy
+    for k in range(fins.shape[0]):  # fins.fin_wrench
+        px, py, pz = fins[k, 0], fins[k, 1], fins[k, 2]
+        lx, ly, lz = fins[k, 3], fins[k, 4], fins[k, 5]
+        sdot = -lz * nr[1] + ly * nr[2]  # the span (0, -lz, ly) . v
+        U2 = nr[0] * nr[0] + nr[1] * nr[1] + nr[2] * nr[2] - sdot * sdot
+        q = 0.5 * rho * U2 * fins[k, 6]
+        d = deltas[k]
+        stall = fins[k, 8]
+        if stall < 0.0 or abs(d) <= stall:
+            cl = fins[k, 7] * d
+        else:
+            cl = math.copysign(fins[k, 7] * stall * fins[k, 9], d)
+        fx = q * cl * lx - math.copysign(q * fins[k, 7] * d * d, nr[0])
+        fy = q * cl * ly
+        fz = q * cl * lz
+        tau[0] += fx
+        tau[1] += fy
+        tau[2] += fz
+        tau[3] += py * fz - pz * fy
+        tau[4] += pz * fx - px * fz
+        tau[5] += px * fy - py * fx
+    if prop[0] > 0.0:  # propeller.Propeller.thrust
+        n = rpm / 60.0
+        D = prop[4]
+        if n > 0.0:
+            j = (1.0 - prop[11]) * nr[0] / D * abs(n) / prop[7]
+            T = rho * D ** 4 * (prop[5] * n * n + (prop[6] - prop[5]) * j)
+            Q = rho * D ** 5 * (prop[8] * n * n + (prop[9] - prop[8]) * j)
+        else:
+            T = rho * D ** 4 * prop[5] * abs(n) * n
+            Q = rho * D ** 5 * prop[8] * abs(n) * n
+        thrust = (1.0 - prop[10]) * T
+        tau[0] += thrust
+        tau[3] += prop[12] * Q
+        tau[4] += prop[3] * thrust
+        tau[5] -= prop[2] * thrust

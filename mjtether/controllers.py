@@ -297,7 +297,8 @@ class VehiclePilot:
         if self._steered:  # what the fins can give depends on the speed: so do the integrals' caps
             eff = self._effectors(run, nu, R)
             most = np.abs(eff[0]) @ np.maximum(eff[2], -eff[1])
-            self._i_max[:2] = np.where(self._ki[:2] > 0, most[[0, 5]] / np.where(self._ki[:2] > 0, self._ki[:2], 1.0), 0.0)
+            ki = self._ki[:2]
+            self._i_max[:2] = np.where(ki > 0, most[[0, 5]] / np.where(ki > 0, ki, 1.0), 0.0)
         self._i = np.clip(self._i + np.where(np.abs(e) < band, e, 0.0) * h, -self._i_max, self._i_max)
         e = np.clip(e, -band, band)
         w = float((R @ nu[:3])[2])

@@ -105,7 +105,8 @@ class ScenarioRun:
                                          seabed_stiffness=sc.water.seabed_stiffness or None,
                                          seabed_damping=sc.water.seabed_damping,
                                          max_length=None if self.makeup is not None else self.winch.max_length,
-                                         end_at=robot if self.walker else None, added_mass=sc.tether.added_mass)
+                                         end_at=robot if self.walker or self.is_vehicle else None,
+                                         added_mass=sc.tether.added_mass)
         self.sim = Simulation(spec, self.water, tethers=[self.tm] if self.tethered else [], bodies=scene.bodies)
         try:
             if self.is_vehicle:  # level, at its start heading, at rest
@@ -156,6 +157,14 @@ class ScenarioRun:
     def set_command(self, speed: float, turn_rate: float) -> None:
         """Command the walker directly (m/s, rad/s), overriding the schedule from now on."""
         self.gait_drive.set_command(speed, turn_rate)
+
+    def release_pilot(self) -> None:
+        """Hand a vehicle's actuators to the caller (e.g. a Gymnasium agent): its autopilot stops
+        commanding them, and whatever is written to ``sim.data.ctrl`` is flown."""
+        if self.pilot is None:
+            raise RuntimeError("release_pilot: the robot is not a vehicle")
+        if self.pilot in self.controllers:
+            self.controllers.remove(self.pilot)
 
     @property
     def heading_ref(self) -> float | None:

@@ -34,7 +34,7 @@ from dataclasses import dataclass, field
 import mujoco
 import numpy as np
 
-from . import _checks
+from . import _checks, compiled
 from .fins import fin_wrench
 from .fossen import cross, crossflow_drag, damping_force, lift_drag, m2c, restoring_force
 from .propeller import Propeller
@@ -209,6 +209,12 @@ class BoundVehicle:
                                   for f in self.fins], dtype=int)
         self._prop_act = (None if vm.propeller is None else
                           int(model.actuator_actadr[model.actuator(f"{vm.name}/{vm.propeller.name}").id]))
+        # the compiled kernel (``compiled.vehicle_wrench``), where it runs and knows the water's profiles
+        self._codes = compiled.profile_codes(water) if compiled.backend() == "numba" else None
+        if self._codes is not None:
+            self._arrays = compiled.vehicle_arrays(vm.hydro, self.fins, self.propeller)
+            self._deltas = np.zeros(len(self.fins))
+            self._tau = np.zeros(6)
         make_not_simple(model, self.id)
         self._orient(np.eye(3))
 
@@ -224,6 +230,8 @@ class BoundVehicle:
 
     def wrench(self, model, data) -> np.ndarray:
         """The hydrodynamic wrench (body frame, about the origin) MuJoCo does not make itself."""
+        if self._codes is not None:
+            return self._compiled_wrench(data)
         nu, R = self.velocity(data)
         z = np.array([min(float(data.xpos[self.id][2]), 0.0)])
         nu_c = np.zeros(6)
@@ -251,6 +259,23 @@ class BoundVehicle:
             tau += (thrust, 0.0, 0.0, torque, r[2] * thrust, -r[1] * thrust)
         B = rho * self.water.gravity * h.volume
         tau -= restoring_force(R, 0.0, B, np.zeros(3), self._r_b)  # the buoyancy (MuJoCo weighs it)
+        if self._has_explicit:  # the rest of M_A nu', from the last step's acceleration
+            a = np.concatenate([R.T @ data.qacc[self._v] - cross(nu[3:], nu[:3]), data.qacc[self._w]])
+            tau -= self._explicit @ a
+        return tau
+
+    def _compiled_wrench(self, data) -> np.ndarray:
+        """``wrench`` by ``compiled.vehicle_wrench`` (the same forces, to rounding)."""
+        nu, R = self.velocity(data)
+        h = self.hydro
+        self._deltas[:] = data.act[self._fin_act]
+        rpm = 0.0 if self._prop_act is None else float(data.act[self._prop_act])
+        keep, hull, fins, prop = self._arrays
+        tau = self._tau
+        compiled.vehicle_wrench(nu, R, min(float(data.xpos[self.id][2]), 0.0), *self._codes, self.water.gravity,
+                                h.added_mass, keep, h.linear_damping, h.linear_damping_fade, h.quadratic_damping,
+                                self._M_lin, h.volume, self._r_b, hull, fins, self._deltas, prop, rpm, tau)
+        tau = tau.copy()
         if self._has_explicit:  # the rest of M_A nu', from the last step's acceleration
             a = np.concatenate([R.T @ data.qacc[self._v] - cross(nu[3:], nu[:3]), data.qacc[self._w]])
             tau -= self._explicit @ a

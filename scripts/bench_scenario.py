@@ -3,6 +3,10 @@ with seabed contact), on one core, without writing results. The wall time counts
 run does: building the model, the quasi-static start, the pre-roll, stepping and recording.
 
     python scripts/bench_scenario.py [SCENARIO.toml] [--duration 60] [--segments N] [--check] [--json]
+    python scripts/bench_scenario.py --vehicles [--json]
+
+``--vehicles`` runs the vehicle cases (``VEHICLE_CASES``) instead: the REMUS 100 torpedo AUV on a
+200-segment tether, the BlueROV2 Heavy on a 200-segment umbilical, and the REMUS 100 alone.
 
 ``--check`` runs the scenario again with the time step divided by ``--refine`` (default 2) and
 reports how far the answers a user reads move: the mean ship-end and
@@ -14,6 +18,7 @@ from __future__ import annotations
 
 import argparse
 import json
+from pathlib import Path
 
 import numpy as np
 
@@ -32,6 +37,28 @@ def _run(path: str, duration: float, timestep: float | None = None, segments: in
     return sc, rows, info
 
 
+ROOT = Path(__file__).resolve().parents[1]
+VEHICLE_CASES = {
+    # name: (example, overrides); 60 s each
+    "torpedo_auv_200_segments": ("examples/remus_fibre_payout.toml",
+                                 ["winch.mode=\"fixed\"", "tether.length=200.0", "tether.segments=200",
+                                  "winch.max_length=200.0", "robot.position=[180.0, 0.0, -20.0]"]),
+    "rov_200_segments": ("examples/rov_umbilical.toml", ["tether.segments=200"]),
+    "torpedo_auv_alone": ("examples/remus_turning_circle.toml", []),
+}
+
+
+def _vehicles(duration: float) -> dict:
+    out = {}
+    for name, (path, sets) in VEHICLE_CASES.items():
+        sc = load_scenario(ROOT / path, overrides=[f"simulation.duration={duration!r}", *sets])
+        _, _, info = run(sc, keep_nodes=False)
+        out[name] = {"scenario": path, "overrides": sets, "segments": sc.tether.segments if sc.tether.attached else 0,
+                     "timestep": sc.simulation.timestep, "simulated_s": info["simulated_s"],
+                     "wall_s": round(info["wall_time_s"], 2), "realtime_factor": round(info["realtime_factor"], 2)}
+    return out
+
+
 def _answers(rows: np.ndarray) -> dict:
     late = rows[:, 0] >= min(10.0, rows[-1, 0] / 2)
     return {"ship_tension_mean": float(rows[late, COL["ship_tension"]].mean()),
@@ -48,8 +75,18 @@ def main(argv=None):
     ap.add_argument("--refine", type=float, default=2, help="time-step divisor of --check (default 2)")
     ap.add_argument("--segments", type=int, default=None,
                     help="tether segments instead of the scenario's (e.g. 200 for examples/rov_umbilical.toml)")
+    ap.add_argument("--vehicles", action="store_true", help="run the vehicle cases (VEHICLE_CASES) instead")
     ap.add_argument("--json", action="store_true")
     args = ap.parse_args(argv)
+    if args.vehicles:
+        out = {"vehicles": _vehicles(args.duration)}
+        if args.json:
+            print(json.dumps(out))
+            return
+        for name, v in out["vehicles"].items():
+            print(f"{name}: {v['scenario']} {' '.join(v['overrides'])}: N = {v['segments']}, {v['simulated_s']:.0f} s in "
+                  f"{v['wall_s']} s, {v['realtime_factor']}x real time")
+        return
     sc, rows, info = _run(args.scenario, args.duration, segments=args.segments)
     dt = sc.simulation.timestep
     out = {"scenario": args.scenario, "segments": sc.tether.segments, "timestep": dt,

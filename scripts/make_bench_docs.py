@@ -56,6 +56,7 @@ RUNS: dict[str, tuple[list[str], str]] = {
                                 "frame_skip 1 instead of the environment's default 10"),
     "bench_quasistatic": (["scripts/bench_quasistatic.py", "--json"], ""),
     "bench_scenario": (["scripts/bench_scenario.py", "--check", "--json"], ""),
+    "bench_scenario_vehicles": (["scripts/bench_scenario.py", "--vehicles", "--json"], "the vehicle cases"),
     "bench_tether": (["scripts/bench_tether.py", "--json"], ""),
     "bench_constructions": (["scripts/bench_constructions.py", "--json"], ""),
 }

@@ -165,3 +165,65 @@ def test_rigid_body_loads_match_the_numpy_kernel(density, current):
         compiled.rigid_body_loads(R, p, v, w, 0.05, 0.4, cd, area, ang, *codes, water.gravity, f, tq)
         close(f, ref[0])
         close(tq, ref[1])
+
+
+def _vehicle(name):
+    """A shipped vehicle; ``remus100_stall``: the REMUS 100 with fins that stall at 10 deg (to 60 %
+    of their peak lift) and turn to 30 deg."""
+    import dataclasses
+    import math
+
+    from mjtether.vehicles import load_vehicle
+
+    if name != "remus100_stall":
+        return load_vehicle(name)
+    vs = load_vehicle("remus100")
+    fins = tuple(dataclasses.replace(f, stall_angle=math.radians(10.0), post_stall_lift=0.6,
+                                     max_angle=math.radians(30.0)) for f in vs.fins)
+    return dataclasses.replace(vs, fins=fins)
+
+
+def _vehicle_wrenches(monkeypatch, kernels, name, water, states):
+    """``BoundVehicle.wrench`` of the vehicle ``name`` (``_vehicle``) at each (qpos, qvel, act)."""
+    from mjtether.simulation import Simulation
+    from mjtether.vehicles import build_vehicle
+
+    monkeypatch.setenv(compiled.KERNELS_ENV, kernels)
+    spec = mujoco.MjSpec()
+    vm = build_vehicle(spec, _vehicle(name), "auv", pos=(0.0, 0.0, -10.0))
+    out = []
+    with Simulation(spec, water, bodies=[vm]) as sim:
+        bv = sim.bodies[0]
+        assert (bv._codes is not None) == (kernels == "numba")
+        for qpos, qvel, act in states:
+            sim.data.qpos[:], sim.data.qvel[:], sim.data.act[:] = qpos, qvel, act
+            mujoco.mj_kinematics(sim.model, sim.data)
+            out.append(bv.wrench(sim.model, sim.data))
+    return np.array(out)
+
+
+@pytest.mark.parametrize("name", ["remus100", "remus100_stall", "bluerov2_heavy"])
+@pytest.mark.parametrize("density, current", PROFILES, ids=lambda p: type(p).__name__)
+def test_vehicle_wrench_matches_the_numpy_kernel(monkeypatch, name, density, current):
+    """Random states of a vehicle (orientation, depth 0.5-60 m, velocities, fin angles up to
+    0.5 rad, past a 10 deg stall for ``remus100_stall``, shaft speeds ahead and astern) in each
+    water column: the compiled ``vehicle_wrench`` against ``BoundVehicle.wrench``'s NumPy path
+    (hull lift and drag, cross-flow, fins, propeller, C_A with its zeroed entries, faded
+    damping, buoyancy)."""
+    from mjtether.vehicles import build_vehicle
+
+    water = wm.WaterColumn(depth=100.0, density=density, current=current)
+    spec = mujoco.MjSpec()
+    build_vehicle(spec, _vehicle(name), "auv")
+    m = spec.compile()
+    states = []
+    for _ in range(50):
+        q = RNG.normal(size=4)
+        qpos = np.r_[RNG.normal(size=2), -RNG.uniform(0.5, 60.0), q / np.linalg.norm(q)]
+        qvel = RNG.normal(size=6) * [1.5, 1.0, 1.0, 0.5, 0.5, 0.5]
+        act = RNG.uniform(-0.5, 0.5, size=m.na)
+        if name.startswith("remus100"):
+            act[-1] = RNG.uniform(-1525.0, 1525.0)  # the propeller, the last actuator
+        states.append((qpos, qvel, act))
+    close(_vehicle_wrenches(monkeypatch, "numba", name, water, states),
+          _vehicle_wrenches(monkeypatch, "numpy", name, water, states))

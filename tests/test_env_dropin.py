@@ -197,7 +197,7 @@ def test_human_mode_drives_the_passive_viewer(monkeypatch):
 # ------------------------------------------------------------------ pickling and vector environments
 
 
-@pytest.mark.parametrize("env_id", [WINCH, WALKER])
+@pytest.mark.parametrize("env_id", [WINCH, WALKER, "mjtether/TetheredROV-v0"])
 def test_pickle_round_trip(env_id):
     """An environment pickles before and after reset (``gym.make``'s wrappers included). The
     copy keeps the keyword arguments and the random generator's state, not the episode: it must

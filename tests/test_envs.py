@@ -12,7 +12,7 @@ from gymnasium.utils.env_checker import check_env
 import mjtether.envs  # noqa: F401 - registers the environments
 from mjtether.envs import FollowPayout, SteerToGoal, TetheredWalkerEnv, TetherWinchEnv
 
-IDS = ["mjtether/TetherWinch-v0", "mjtether/TetheredWalker-v0"]
+IDS = ["mjtether/TetherWinch-v0", "mjtether/TetheredWalker-v0", "mjtether/TetheredROV-v0"]
 ROOT = Path(__file__).resolve().parents[1]
 
 

@@ -198,3 +198,23 @@ def test_line_of_sight_route_then_station_keeping():
         assert np.max(np.abs(held[:, 2] + 25.0)) < 0.1
     finally:
         r.close()
+
+
+def test_a_vehicle_starting_at_a_heading_starts_on_its_cable():
+    """A vehicle placed at a start heading of 120 deg: the cable's quasi-static start is solved
+    to its tow point turned with it (the tow point is behind the origin), and at t = 0 the
+    cable's last node is there (within 1 mm: the soft connect after the pre-roll)."""
+    text = SCENARIO.replace('position = [10.0, 0.0, -15.0]', 'position = [10.0, 0.0, -15.0]\nheading_deg = 120.0')
+    sc = load_scenario(text=text.replace("[0.0, 0.0, 0.0, 15.0], ", "[0.0, 0.0, 120.0, 15.0], "))
+    r = ScenarioRun(sc)
+    try:
+        assert r.initial is not None
+        tow = r.named.robot_position
+        vs = load_vehicle(ROV)
+        yaw = math.radians(120.0)
+        R = np.array([[math.cos(yaw), -math.sin(yaw), 0.0], [math.sin(yaw), math.cos(yaw), 0.0], [0.0, 0.0, 1.0]])
+        assert np.allclose(r.initial.nodes[-1], np.array([10.0, 0.0, -15.0]) + R @ np.asarray(vs.tow_point), atol=1e-9)
+        assert np.linalg.norm(r.named.tether_nodes[-1] - tow) < 1e-3
+        assert math.degrees(r.named.robot_heading) == pytest.approx(120.0, abs=0.5)
+    finally:
+        r.close()
