@@ -14,6 +14,10 @@ and say which here:
 * the ROV example (``examples/rov_umbilical.toml``) added; every other run unchanged bit for bit.
 * the ROV autopilot's allocation takes the least-thrust least-squares answer where it is within
   the thrusters' limits (before: scipy's bounded solver every time): the ROV example changed.
+* the REMUS 100 examples (``remus_fibre_payout``, ``remus_turning_circle``) and
+  ``TetheredROV-v0`` added; the vehicle's forces by the compiled kernel
+  (``compiled.vehicle_wrench``): the ROV example moved by rounding (largest change 2.6e-11 of
+  a record value); every other run unchanged bit for bit.
 
     python tests/golden.py   # rewrites tests/data/golden_runs.npz
 """
@@ -43,7 +47,7 @@ def runs() -> dict[str, np.ndarray]:
     return out
 
 
-ENVS = ("mjtether/TetherWinch-v0", "mjtether/TetheredWalker-v0")
+ENVS = ("mjtether/TetherWinch-v0", "mjtether/TetheredWalker-v0", "mjtether/TetheredROV-v0")
 
 
 def env_runs(steps: int = 20) -> dict[str, np.ndarray]:
