@@ -209,8 +209,10 @@ class BoundVehicle:
                                   for f in self.fins], dtype=int)
         self._prop_act = (None if vm.propeller is None else
                           int(model.actuator_actadr[model.actuator(f"{vm.name}/{vm.propeller.name}").id]))
-        # the compiled kernel (``compiled.vehicle_wrench``), where it runs and knows the water's profiles
-        self._codes = compiled.profile_codes(water) if compiled.backend() == "numba" else None
+        # the compiled kernel (``compiled.vehicle_wrench``), where it runs and knows the water's
+        # profiles and the hull (a subclass of Hull with a wrench of its own runs in NumPy)
+        known_hull = vm.hydro.hull is None or type(vm.hydro.hull) is Hull
+        self._codes = compiled.profile_codes(water) if compiled.backend() == "numba" and known_hull else None
         if self._codes is not None:
             self._arrays = compiled.vehicle_arrays(vm.hydro, self.fins, self.propeller)
             self._deltas = np.zeros(len(self.fins))

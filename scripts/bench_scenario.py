@@ -6,7 +6,8 @@ run does: building the model, the quasi-static start, the pre-roll, stepping and
     python scripts/bench_scenario.py --vehicles [--json]
 
 ``--vehicles`` runs the vehicle cases (``VEHICLE_CASES``) instead: the REMUS 100 torpedo AUV on a
-200-segment tether, the BlueROV2 Heavy on a 200-segment umbilical, and the REMUS 100 alone.
+200-segment tether, the BlueROV2 Heavy on a 200-segment umbilical, and the REMUS 100 alone; and
+times the REMUS 100's passive wrench with the compiled and the NumPy kernels.
 
 ``--check`` runs the scenario again with the time step divided by ``--refine`` (default 2) and
 reports how far the answers a user reads move: the mean ship-end and
@@ -59,6 +60,43 @@ def _vehicles(duration: float) -> dict:
     return out
 
 
+def _vehicle_wrench_us(kernels: str, calls: int = 5000) -> float:
+    """Cost (us per call) of the REMUS 100's passive wrench (``BoundVehicle.wrench``: hull, fins,
+    propeller, added-mass terms, buoyancy) with the ``kernels`` given, median of 5 rounds."""
+    import os
+    import time
+
+    import mujoco
+
+    from mjtether import compiled
+    from mjtether.simulation import Simulation
+    from mjtether.vehicles import build_vehicle, load_vehicle
+    from mjtether.water import ExponentialCurrent, WaterColumn
+
+    was = os.environ.get(compiled.KERNELS_ENV)
+    os.environ[compiled.KERNELS_ENV] = kernels
+    try:
+        spec = mujoco.MjSpec()
+        vm = build_vehicle(spec, load_vehicle("remus100"), "auv", pos=(0.0, 0.0, -20.0))
+        water = WaterColumn(depth=100.0, current=ExponentialCurrent(0.5, decay_depth=20.0))
+        with Simulation(spec, water, bodies=[vm]) as sim:
+            bv, d = sim.bodies[0], sim.data
+            d.qvel[:] = [1.5, 0.1, -0.05, 0.02, 0.03, 0.1]
+            d.act[:] = [0.1, -0.05, 1200.0]
+            rounds = []
+            for _ in range(5):
+                t0 = time.perf_counter()
+                for _ in range(calls):
+                    bv.wrench(sim.model, d)
+                rounds.append((time.perf_counter() - t0) / calls * 1e6)
+    finally:
+        if was is None:
+            os.environ.pop(compiled.KERNELS_ENV, None)
+        else:
+            os.environ[compiled.KERNELS_ENV] = was
+    return round(float(np.median(rounds)), 1)
+
+
 def _answers(rows: np.ndarray) -> dict:
     late = rows[:, 0] >= min(10.0, rows[-1, 0] / 2)
     return {"ship_tension_mean": float(rows[late, COL["ship_tension"]].mean()),
@@ -79,13 +117,16 @@ def main(argv=None):
     ap.add_argument("--json", action="store_true")
     args = ap.parse_args(argv)
     if args.vehicles:
-        out = {"vehicles": _vehicles(args.duration)}
+        out = {"vehicles": _vehicles(args.duration),
+               "vehicle_wrench_us": {k: _vehicle_wrench_us(k) for k in ("numba", "numpy")}}
         if args.json:
             print(json.dumps(out))
             return
         for name, v in out["vehicles"].items():
             print(f"{name}: {v['scenario']} {' '.join(v['overrides'])}: N = {v['segments']}, {v['simulated_s']:.0f} s in "
                   f"{v['wall_s']} s, {v['realtime_factor']}x real time")
+        w = out["vehicle_wrench_us"]
+        print(f"REMUS 100 passive wrench: {w['numba']} us compiled, {w['numpy']} us NumPy")
         return
     sc, rows, info = _run(args.scenario, args.duration, segments=args.segments)
     dt = sc.simulation.timestep

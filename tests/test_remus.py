@@ -404,18 +404,15 @@ PVS_TURNING = {(1525.0, 5.0): (80.73, 2.544), (1525.0, 10.0): (49.10, 2.528), (1
 
 
 @pytest.mark.parametrize("rpm, rudder", list(PVS_TURNING), ids=[f"{r:.0f}rpm-{d:.0f}deg" for r, d in PVS_TURNING])
-def test_remus_turning_circles_match_fossens_code(monkeypatch, rpm, rudder):
+def test_remus_turning_circles_match_fossens_code(rpm, rudder):
     """With Fossen's own cross-flow sum (``pvs_crossflow``) in place of mjtether's, the turning
     circles of his code: diameter and speed within 0.5 % (his forward-Euler step and our 5 ms
     MuJoCo step each move them by less than 0.05 %; the tolerance leaves room for the
     transcribed coefficients' rounding). The vehicle turns to starboard (heading decreasing, z
     up). mjtether's own cross-flow sum (the midpoint rule of the strip integral, also in heave
     and pitch) makes the circles 6-8 % tighter: docs/vehicles.md sets the two side by side.
-    (The hull's ``wrench`` is replaced, which the NumPy kernels call: the compiled kernel,
-    checked against them in test_compiled, has mjtether's sum built in.)"""
-    from mjtether import compiled
-
-    monkeypatch.setenv(compiled.KERNELS_ENV, "numpy")
+    (A hull of a class of its own runs through the NumPy kernels, not the compiled one, which
+    has mjtether's sum built in.)"""
     diameter, U, rate = turning_circle(rpm, rudder, fossen_crossflow=True)
     want_d, want_U = PVS_TURNING[(rpm, rudder)]
     assert rate < 0.0
