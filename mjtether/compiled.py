@@ -295,9 +295,10 @@ def rigid_body_loads(R, p_cob, v_cob, omega, volume, height, drag_cd, drag_area,
 # --------------------------------------------------------------------------- vehicles
 
 
-def vehicle_arrays(hydro, fins, propeller):
-    """The parameters of ``vehicle_wrench`` from a ``VehicleHydro``, its fins and propeller:
-    (zeroed-C_A mask (6, 6), hull (8,), fins (k, 10), propeller (13,))."""
+def vehicle_arrays(hydro, fins, propeller, r_g):
+    """The parameters of ``vehicle_wrench`` from a ``VehicleHydro``, its fins, propeller and
+    centre of gravity ``r_g`` (body frame): (zeroed-C_A mask (6, 6), hull (8,), fins (k, 10),
+    propeller (13,), surface (8,))."""
     keep = np.ones((6, 6))
     for i, j in hydro.coriolis_zeroed:
         keep[i, j] = 0.0
@@ -311,17 +312,21 @@ def vehicle_arrays(hydro, fins, propeller):
     prop = np.zeros(13) if p is None else np.array(
         [1.0, *p.position, p.diameter, p.kt0, p.kt_max, p.ja_max, p.kq0, p.kq_max, p.thrust_deduction,
          p.wake_fraction, p.torque_scale], dtype=float)
-    return keep, hull, fin, prop
+    sf = hydro.surface
+    surface = np.zeros(8) if sf is None else np.array(
+        [1.0, sf.waterplane_area, sf.gm_t, sf.gm_l, sf.max_volume, *r_g], dtype=float)
+    return keep, hull, fin, prop, surface
 
 
 @_jit
 def vehicle_wrench(nu, R, z, dkind, dp, ckind, cp, gravity, MA, keep, DL, fade, DQ, Mlin, volume, r_b, hull, fins,
-                   deltas, prop, rpm, tau):
+                   deltas, prop, rpm, surface, z_origin, tau):
     """``vehicle.BoundVehicle``'s explicit wrench (body frame, N and N m about the origin) into
     ``tau`` (6,): -C_A(nu_r) nu_r (``keep``: 0 where an entry is left out), -D(nu_r) nu_r (rows of
     D_L faded by exp(-fade U_r)), M_A (omega x nu_r), the buoyancy at r_b, the hull's lift and
-    drag, the fins' and the propeller's (``vehicle_arrays``); the water at height ``z`` (m,
-    <= 0) as codes (``profile_codes``). The NumPy reference: ``BoundVehicle.wrench``."""
+    drag, the fins' and the propeller's (``vehicle_arrays``), or a surface vessel's hydrostatics
+    at its origin's height ``z_origin`` (m) in place of the buoyancy; the water at height ``z``
+    (m, <= 0) as codes (``profile_codes``). The NumPy reference: ``BoundVehicle.wrench``."""
     depth = max(-z, 0.0)
     rho = _density(dkind, dp, depth)
     u = np.zeros(3)
@@ -363,15 +368,29 @@ def vehicle_wrench(nu, R, z, dkind, dp, ckind, cp, gravity, MA, keep, DL, fade, 
     c2 = nu[3] * nr[1] - nu[4] * nr[0]
     for i in range(3):
         tau[i] += Mlin[i, 0] * c0 + Mlin[i, 1] * c1 + Mlin[i, 2] * c2
-    # buoyancy at r_b (the weight is MuJoCo's)
-    B = rho * gravity * volume
-    fb0, fb1, fb2 = R[2, 0] * B, R[2, 1] * B, R[2, 2] * B
-    tau[0] += fb0
-    tau[1] += fb1
-    tau[2] += fb2
-    tau[3] += r_b[1] * fb2 - r_b[2] * fb1
-    tau[4] += r_b[2] * fb0 - r_b[0] * fb2
-    tau[5] += r_b[0] * fb1 - r_b[1] * fb0
+    if surface[0] > 0.0:  # fossen.surface_restoring: buoyancy through the centre of gravity, righting moments
+        Vs = min(max(volume - surface[1] * z_origin, 0.0), surface[4])
+        B = rho * gravity * Vs
+        fb0, fb1, fb2 = R[2, 0] * B, R[2, 1] * B, R[2, 2] * B
+        gx, gy, gz = surface[5], surface[6], surface[7]
+        k = rho * gravity * min(Vs, volume)
+        roll = math.atan2(R[2, 1], R[2, 2])
+        pitch = math.asin(max(-1.0, min(1.0, -R[2, 0])))
+        tau[0] += fb0
+        tau[1] += fb1
+        tau[2] += fb2
+        tau[3] += gy * fb2 - gz * fb1 - k * surface[2] * math.sin(roll)
+        tau[4] += gz * fb0 - gx * fb2 - k * surface[3] * math.sin(pitch)
+        tau[5] += gx * fb1 - gy * fb0
+    else:  # buoyancy at r_b (the weight is MuJoCo's)
+        B = rho * gravity * volume
+        fb0, fb1, fb2 = R[2, 0] * B, R[2, 1] * B, R[2, 2] * B
+        tau[0] += fb0
+        tau[1] += fb1
+        tau[2] += fb2
+        tau[3] += r_b[1] * fb2 - r_b[2] * fb1
+        tau[4] += r_b[2] * fb0 - r_b[0] * fb2
+        tau[5] += r_b[0] * fb1 - r_b[1] * fb0
     if hull[0] > 0.0:  # fossen.lift_drag and fossen.crossflow_drag
         L, D, cd2d, area, oswald, strips = hull[1], hull[2], hull[4], hull[5], hull[6], int(hull[7])
         cd0 = hull[3] * math.pi * D * D / 4.0 / area

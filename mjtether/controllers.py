@@ -211,7 +211,8 @@ class VehiclePilot:
 
     def __init__(self, setpoints: np.ndarray, gains, thrusters, actuators: np.ndarray, route=None,
                  start=(0.0, 0.0), lookahead: float = 5.0, acceptance_radius: float = 2.0, fins=(),
-                 fin_actuators=(), propeller=None, propeller_actuator=None, manoeuvre: Manoeuvre | None = None):
+                 fin_actuators=(), propeller=None, propeller_actuator=None, manoeuvre: Manoeuvre | None = None,
+                 surface: bool = False):
         self.setpoints = setpoints
         self.route = None if route is None else np.asarray(route, dtype=float)  # rows x, y, depth, speed
         self.lookahead, self.acceptance_radius = float(lookahead), float(acceptance_radius)
@@ -236,6 +237,9 @@ class VehiclePilot:
         self._w = np.r_[1.0, 1.0, 1.0, MOMENT_WEIGHT, MOMENT_WEIGHT, MOMENT_WEIGHT]
         if gains.depth_by_pitch:  # a torpedo asks for surge force, pitch and yaw moments only
             self._w = np.r_[1.0, 0.0, 0.0, 0.0, MOMENT_WEIGHT, MOMENT_WEIGHT]
+        if surface:  # a surface vessel: heave, roll and pitch are the hydrostatics' (a thrust's pitch
+            # moment is no reason to thrust less)
+            self._w = np.r_[1.0, 1.0, 0.0, 0.0, 0.0, MOMENT_WEIGHT]
         self._WB = self._w[:, None] * self.B
         self._pinv = np.linalg.pinv(self._WB) if self.B.shape[1] else None  # the unbounded solution
         # fins and a propeller: their columns depend on the speed through the water (``_effectors``)

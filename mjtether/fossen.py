@@ -97,3 +97,21 @@ def lift_drag(nu_r: np.ndarray, rho: float, area: float, cd0: float, span: float
     lift, drag = q * CL, q * CD
     return np.array([-drag * u / h + lift * math.copysign(1.0, u) * math.sin(alpha), 0.0,
                      -drag * w / h - lift * math.cos(alpha), 0.0, 0.0, 0.0])
+
+
+def surface_restoring(R: np.ndarray, z: float, rho: float, gravity: float, volume: float, waterplane_area: float,
+                      gm_t: float, gm_l: float, max_volume: float, r_g) -> np.ndarray:
+    """Hydrostatics of a surface vessel (Fossen 2021, Sec. 4.2: linear restoring about the
+    floating equilibrium, G = diag(0, 0, rho g A_wp, rho g V GM_T, rho g V GM_L, 0)), made to
+    hold at any heave: the buoyancy rho g V_s with the submerged volume V_s = V - A_wp z (z the
+    origin's height above its design waterline, m), within [0, ``max_volume``], upwards through
+    the centre of gravity ``r_g`` (body frame), and the righting moments -rho g V_s' GM_T sin(phi)
+    about x and -rho g V_s' GM_L sin(theta) about y (V_s' = min(V_s, V); theta > 0 nose down).
+    Returns the body-frame wrench (N, N m) about the origin; the weight is MuJoCo's."""
+    Vs = min(max(volume - waterplane_area * z, 0.0), max_volume)
+    f = R.T @ np.array([0.0, 0.0, rho * gravity * Vs])
+    k = rho * gravity * min(Vs, volume)
+    roll = math.atan2(R[2, 1], R[2, 2])
+    pitch = math.asin(max(-1.0, min(1.0, -R[2, 0])))
+    m = cross(r_g, f)
+    return np.array([f[0], f[1], f[2], m[0] - k * gm_t * math.sin(roll), m[1] - k * gm_l * math.sin(pitch), m[2]])

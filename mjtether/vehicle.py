@@ -36,7 +36,7 @@ import numpy as np
 
 from . import _checks, compiled
 from .fins import fin_wrench
-from .fossen import cross, crossflow_drag, damping_force, lift_drag, m2c, restoring_force
+from .fossen import cross, crossflow_drag, damping_force, lift_drag, m2c, restoring_force, surface_restoring
 from .propeller import Propeller
 from .rigidbody import make_not_simple
 
@@ -80,6 +80,23 @@ class Hull:
 
 
 @dataclass(frozen=True)
+class Surface:
+    """A surface vessel's hydrostatics (``fossen.surface_restoring``): its ``waterplane_area``
+    A_wp (m^2), transverse and longitudinal metacentric heights ``gm_t`` and ``gm_l`` (m, above
+    the centre of gravity) and the volume it displaces fully submerged, ``max_volume`` (m^3). The
+    body origin is on the design waterline, where it displaces ``VehicleHydro.volume``."""
+
+    waterplane_area: float
+    gm_t: float
+    gm_l: float
+    max_volume: float
+
+    def __post_init__(self):
+        for key, unit in (("waterplane_area", "m^2"), ("gm_t", "m"), ("gm_l", "m"), ("max_volume", "m^3")):
+            _checks.positive(f"surface.{key}", getattr(self, key), unit)
+
+
+@dataclass(frozen=True)
 class VehicleHydro:
     """A vehicle's hydrodynamic parameters (Fossen's form; body frame x forward, y left, z up).
 
@@ -94,6 +111,8 @@ class VehicleHydro:
         coriolis_zeroed: (row, column) entries of C_A(nu_r) left out (0-based, Fossen's axis
             order u v w p q r), as Fossen's REMUS 100 model drops the Munk moments.
         hull: a torpedo's hull lift and drag (None: none).
+        surface: a surface vessel's hydrostatics (None: a submerged vehicle, buoyant by
+            rho g ``volume`` at ``centre_of_buoyancy``).
     """
 
     volume: float
@@ -104,6 +123,7 @@ class VehicleHydro:
     linear_damping_fade: np.ndarray = field(default_factory=lambda: np.zeros(6))
     coriolis_zeroed: tuple = ()
     hull: Hull | None = None
+    surface: Surface | None = None
 
     def __post_init__(self):
         _checks.non_negative("hydro.volume", self.volume, "m^3")
@@ -130,6 +150,12 @@ class VehicleHydro:
         object.__setattr__(self, "coriolis_zeroed", pairs)
         if self.hull is not None and not isinstance(self.hull, Hull):
             raise ValueError("hydro.hull must be a Hull")
+        if self.surface is not None:
+            if not isinstance(self.surface, Surface):
+                raise ValueError("hydro.surface must be a Surface")
+            if self.surface.max_volume < self.volume:
+                raise ValueError(f"surface.max_volume ({self.surface.max_volume:g} m^3) must be at least hydro.volume "
+                                 f"({self.volume:g} m^3), what the vessel displaces floating")
 
 
 @dataclass
@@ -201,6 +227,7 @@ class BoundVehicle:
         self._has_explicit = bool(np.any(self._explicit != 0.0))
         self._M_lin = MA[:3, :3].copy()
         self._r_b = np.asarray(vm.hydro.centre_of_buoyancy, dtype=float)
+        self._r_g = model.body_ipos[self.id].copy()  # the centre of gravity (body frame)
         self._zeroed = tuple(np.array(ij, dtype=int) for ij in zip(*vm.hydro.coriolis_zeroed)) or None
         self._fade = vm.hydro.linear_damping_fade if np.any(vm.hydro.linear_damping_fade) else None
         self.fins, self.propeller = tuple(vm.fins), vm.propeller
@@ -214,7 +241,7 @@ class BoundVehicle:
         known_hull = vm.hydro.hull is None or type(vm.hydro.hull) is Hull
         self._codes = compiled.profile_codes(water) if compiled.backend() == "numba" and known_hull else None
         if self._codes is not None:
-            self._arrays = compiled.vehicle_arrays(vm.hydro, self.fins, self.propeller)
+            self._arrays = compiled.vehicle_arrays(vm.hydro, self.fins, self.propeller, model.body_ipos[self.id])
             self._deltas = np.zeros(len(self.fins))
             self._tau = np.zeros(6)
         make_not_simple(model, self.id)
@@ -259,8 +286,13 @@ class BoundVehicle:
             thrust, torque = p.thrust(float(data.act[self._prop_act]), float(nu_r[0]), rho)
             r = p.position
             tau += (thrust, 0.0, 0.0, torque, r[2] * thrust, -r[1] * thrust)
-        B = rho * self.water.gravity * h.volume
-        tau -= restoring_force(R, 0.0, B, np.zeros(3), self._r_b)  # the buoyancy (MuJoCo weighs it)
+        if h.surface is not None:  # floating: hydrostatics about the design waterline
+            sf = h.surface
+            tau += surface_restoring(R, float(data.xpos[self.id][2]), rho, self.water.gravity, h.volume,
+                                     sf.waterplane_area, sf.gm_t, sf.gm_l, sf.max_volume, self._r_g)
+        else:
+            B = rho * self.water.gravity * h.volume
+            tau -= restoring_force(R, 0.0, B, np.zeros(3), self._r_b)  # the buoyancy (MuJoCo weighs it)
         if self._has_explicit:  # the rest of M_A nu', from the last step's acceleration
             a = np.concatenate([R.T @ data.qacc[self._v] - cross(nu[3:], nu[:3]), data.qacc[self._w]])
             tau -= self._explicit @ a
@@ -272,11 +304,12 @@ class BoundVehicle:
         h = self.hydro
         self._deltas[:] = data.act[self._fin_act]
         rpm = 0.0 if self._prop_act is None else float(data.act[self._prop_act])
-        keep, hull, fins, prop = self._arrays
+        keep, hull, fins, prop, surface = self._arrays
         tau = self._tau
-        compiled.vehicle_wrench(nu, R, min(float(data.xpos[self.id][2]), 0.0), *self._codes, self.water.gravity,
-                                h.added_mass, keep, h.linear_damping, h.linear_damping_fade, h.quadratic_damping,
-                                self._M_lin, h.volume, self._r_b, hull, fins, self._deltas, prop, rpm, tau)
+        z = float(data.xpos[self.id][2])
+        compiled.vehicle_wrench(nu, R, min(z, 0.0), *self._codes, self.water.gravity, h.added_mass, keep,
+                                h.linear_damping, h.linear_damping_fade, h.quadratic_damping, self._M_lin, h.volume,
+                                self._r_b, hull, fins, self._deltas, prop, rpm, surface, z, tau)
         tau = tau.copy()
         if self._has_explicit:  # the rest of M_A nu', from the last step's acceleration
             a = np.concatenate([R.T @ data.qacc[self._v] - cross(nu[3:], nu[:3]), data.qacc[self._w]])

@@ -11,6 +11,8 @@ The file's tables (units SI; body frame x forward, y left, z up; see ``vehicle``
                    linear_damping_fade, coriolis_zeroed
     [hull]         length, diameter, axial_cd, crossflow_cd, reference_area, oswald, strips
                    (a torpedo's hull lift and drag, ``vehicle.Hull``)
+    [surface]      waterplane_area, gm_t, gm_l, max_volume (a surface vessel's hydrostatics,
+                   ``vehicle.Surface``; its origin on the design waterline)
     [[thrusters]]  name, position, direction, max_forward, max_reverse, time_constant
     [[fins]]       name, position, lift_direction, area, cl_delta, max_angle_deg, time_constant,
                    stall_angle_deg, post_stall_lift (``fins.Fin``)
@@ -35,13 +37,14 @@ from .fins import Fin, add_fin
 from .packagedata import asset_dir
 from .propeller import Propeller, add_propeller
 from .thruster import Thruster, add_thruster
-from .vehicle import Hull, VehicleHydro, VehicleModel, add_vehicle
+from .vehicle import Hull, Surface, VehicleHydro, VehicleModel, add_vehicle
 
 KEYS = {
     "vehicle": {"name", "mass", "inertia", "centre_of_gravity", "size", "tow_point", "sources"},
     "hydro": {"volume", "centre_of_buoyancy", "added_mass", "linear_damping", "quadratic_damping",
               "linear_damping_fade", "coriolis_zeroed"},
     "hull": {"length", "diameter", "axial_cd", "crossflow_cd", "reference_area", "oswald", "strips"},
+    "surface": {"waterplane_area", "gm_t", "gm_l", "max_volume"},
     "thrusters": {"name", "position", "direction", "max_forward", "max_reverse", "time_constant"},
     "fins": {"name", "position", "lift_direction", "area", "cl_delta", "max_angle_deg", "time_constant",
              "stall_angle_deg", "post_stall_lift"},
@@ -149,12 +152,13 @@ def load_vehicle(name_or_path) -> VehicleSpec:
             raise ValueError(f"{where}: {table}.{key} is required")
     try:
         hull = Hull(**tree["hull"]) if "hull" in tree else None
+        surface = Surface(**tree["surface"]) if "surface" in tree else None
         hydro = VehicleHydro(volume=h["volume"], centre_of_buoyancy=h.get("centre_of_buoyancy", (0.0, 0.0, 0.0)),
                              added_mass=h.get("added_mass", np.zeros(6)),
                              linear_damping=h.get("linear_damping", np.zeros(6)),
                              quadratic_damping=h.get("quadratic_damping", np.zeros(6)),
                              linear_damping_fade=h.get("linear_damping_fade", np.zeros(6)),
-                             coriolis_zeroed=tuple(h.get("coriolis_zeroed", ())), hull=hull)
+                             coriolis_zeroed=tuple(h.get("coriolis_zeroed", ())), hull=hull, surface=surface)
         thrusters = tuple(Thruster(**t) for t in tree.get("thrusters", []))
         fins = tuple(_fin(f) for f in tree.get("fins", []))
         propeller = Propeller(**tree["propeller"]) if "propeller" in tree else None
