@@ -349,6 +349,7 @@ def add_tether(
     max_length: float | None = None,
     end_at=None,
     added_mass: str | None = None,
+    start_at=None,
 ) -> TetherModel:
     """Add ``tether`` to ``spec`` between ``start`` (the ship end, where its drum is) and ``end``.
 
@@ -374,6 +375,7 @@ def add_tether(
             compiling); the last node is placed there.
         added_mass: ``"isotropic"`` or ``"normal"`` (see ``TetherSpec.added_mass`` and the module
             docstring); default: the tether's (``"isotropic"`` for a line make-up).
+        start_at: as ``end_at``, for the start support (a vessel turned after compiling).
     """
     if seabed_friction is not None:
         _checks.non_negative("seabed_friction", seabed_friction)
@@ -402,7 +404,7 @@ def add_tether(
     n = drum_capacity(tether, max_length)
     first = n - N
 
-    p0 = anchor_position(spec, start)
+    p0 = anchor_position(spec, start) if start_at is None else _checks.vector3("start_at", start_at)
     p1 = anchor_position(spec, end) if end_at is None else _checks.vector3("end_at", end_at)
     if nodes is None and p0 is None:
         raise ValueError("nodes: give the initial node positions when the start end is free")

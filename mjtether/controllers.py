@@ -212,8 +212,9 @@ class VehiclePilot:
     def __init__(self, setpoints: np.ndarray, gains, thrusters, actuators: np.ndarray, route=None,
                  start=(0.0, 0.0), lookahead: float = 5.0, acceptance_radius: float = 2.0, fins=(),
                  fin_actuators=(), propeller=None, propeller_actuator=None, manoeuvre: Manoeuvre | None = None,
-                 surface: bool = False):
+                 surface: bool = False, body=None):
         self.setpoints = setpoints
+        self.body = body  # the vehicle flown (a vehicle.BoundVehicle); None: the run's robot
         self.route = None if route is None else np.asarray(route, dtype=float)  # rows x, y, depth, speed
         self.lookahead, self.acceptance_radius = float(lookahead), float(acceptance_radius)
         self._leg = 0  # the route's waypoint being steered to
@@ -291,15 +292,16 @@ class VehiclePilot:
             return
         h, self._since = self._since, 0.0
         g = self.gains
-        nu, R = run.vehicle.velocity(run.sim.data)
-        p = run.sim.data.xpos[run.vehicle.id]
+        vehicle = self.body if self.body is not None else run.vehicle
+        nu, R = vehicle.velocity(run.sim.data)
+        p = run.sim.data.xpos[vehicle.id]
         yaw = math.atan2(R[1, 0], R[0, 0])
         speed, heading, depth = self.setpoint(t) if self.route is None else self.guide(p, yaw)
         e = np.array([speed - nu[0], heading_error(heading, math.atan2(R[1, 0], R[0, 0])),
-                      -depth - float(run.sim.data.xpos[run.vehicle.id][2])])
+                      -depth - float(p[2])])
         band = self._band
         if self._steered:  # what the fins can give depends on the speed: so do the integrals' caps
-            eff = self._effectors(run, nu, R)
+            eff = self._effectors(run, vehicle, nu, R)
             most = np.abs(eff[0]) @ np.maximum(eff[2], -eff[1])
             ki = self._ki[:2]
             self._i_max[:2] = np.where(ki > 0, most[[0, 5]] / np.where(ki > 0, ki, 1.0), 0.0)
@@ -337,12 +339,12 @@ class VehiclePilot:
                 x = lsq_linear(self._WB, target, bounds=(self.lo, self.hi)).x
             run.sim.data.ctrl[self.actuators] = x
 
-    def _effectors(self, run, nu: np.ndarray, R: np.ndarray):
+    def _effectors(self, run, vehicle, nu: np.ndarray, R: np.ndarray):
         """(B 6 x n, lower and upper limits, surge speed through the water m/s, rho kg/m^3): the
         thrusters', fins' (per rad) and propeller's (per N of thrust) wrench per unit of command
         at the present speed through the water, and their limits."""
-        z = np.array([min(float(run.sim.data.xpos[run.vehicle.id][2]), 0.0)])
-        water = run.vehicle.water
+        z = np.array([min(float(run.sim.data.xpos[vehicle.id][2]), 0.0)])
+        water = vehicle.water
         rho = float(water.rho(z)[0])
         v = nu[:3] - R.T @ water.velocity(z)[0]  # through the water, body frame
         cols, lo, hi = [self.B], [self.lo], [self.hi]

@@ -105,8 +105,9 @@ class Readouts:
         self._sim = run.sim
         self._bt = run.bt if run.bt is not None else NoTether(run.sim.model, run.sim.data)
         m = run.sim.model
-        self.ship_mocap = m.body("ship").mocapid[0]
-        """Mocap index of the ship's body."""
+        self.ship_mocap = int(m.body("ship").mocapid[0])
+        """Mocap index of the ship's body (-1 for a vessel, ``ship.vessel``: a body of its own)."""
+        self._ship_body = m.body("ship").id
         # a robot with a body of its own: the walker (its torso) or a vehicle (its hull)
         self._bodied = run.walker or run.is_vehicle
         prefix = "walker" if run.walker else "vehicle"
@@ -171,8 +172,10 @@ class Readouts:
 
     @property
     def ship_position(self) -> np.ndarray:
-        """Position of the ship's mocap body (m, world; the fairlead's, less its heave)."""
-        return self._sim.data.mocap_pos[self.ship_mocap].copy()
+        """Position of the ship's body (m, world): the prescribed ship's mocap body (the fairlead's,
+        less its heave) or a vessel's origin (on its design waterline)."""
+        d = self._sim.data
+        return (d.mocap_pos[self.ship_mocap] if self.ship_mocap >= 0 else d.xpos[self._ship_body]).copy()
 
     # ------------------------------------------------------------------ the robot
 
@@ -256,7 +259,7 @@ class Readouts:
         x = d.flexvert_xpos[bt.vertadr + bt.n - 1:bt.vertadr + bt.n + 1]  # the last two nodes
         ex, ey = float(x[1, 0] - x[0, 0]), float(x[1, 1] - x[0, 1])
         if math.hypot(ex, ey) < 1e-3 * bt.l0:
-            ship = d.mocap_pos[self.ship_mocap]
+            ship = self.ship_position
             ex, ey = float(x[1, 0] - ship[0]), float(x[1, 1] - ship[1])
         vel = self._vel6
         mujoco.mj_objectVelocity(self._sim.model, d, mujoco.mjtObj.mjOBJ_SITE, self.tow_site, vel, 0)
@@ -330,7 +333,7 @@ class Readouts:
         fe = bt.end_force(d, "end")
         x = bt.nodes(d)
         on_bottom = self.length_on_seabed(x)
-        ship = d.mocap_pos[self.ship_mocap]
+        ship = self.ship_position
         tow, yaw, speed, R = self.robot_state()
         if self._bodied:  # Khan et al. Eq. 38 about the robot's centre of mass
             moment = np.cross(tow - d.subtree_com[self.torso], fe)

@@ -75,7 +75,7 @@ class ScenarioRun:
             end = builder.FixedPoint(robot)
         self.robot_position = robot
         self.tethered = sc.tether.attached
-        top = np.array(spec.body("ship").pos)
+        top = scene.fairlead_start()
         if self.tethered:
             self.initial, self.initial_note = start.steady_start(scene, top, robot, dt)
         else:
@@ -106,9 +106,13 @@ class ScenarioRun:
                                          seabed_damping=sc.water.seabed_damping,
                                          max_length=None if self.makeup is not None else self.winch.max_length,
                                          end_at=robot if self.walker or self.is_vehicle else None,
-                                         added_mass=sc.tether.added_mass)
+                                         added_mass=sc.tether.added_mass,
+                                         start_at=top if scene.vessel is not None else None)
         self.sim = Simulation(spec, self.water, tethers=[self.tm] if self.tethered else [], bodies=scene.bodies)
+        self.ship_pilot = None
         try:
+            if scene.vessel is not None:  # the vessel: level at its start heading, on its autopilot
+                self.ship_pilot = self._vessel_pilot(scene)
             if self.is_vehicle:  # level, at its start heading, at rest
                 m = self.sim.model
                 adr = m.joint(f"{VEHICLE}/ball").qposadr[0]
@@ -135,13 +139,34 @@ class ScenarioRun:
                 self.gait_drive.bind(self.sim.model, self.sim.data, self.torso)
             # the order they act in at each step: the gait or autopilot, then the ship, then the winch
             winch = WinchDrive(self.winch) if self.tethered else None
-            self.controllers = [c for c in (self.gait_drive, self.pilot, self.ship, winch) if c is not None]
+            ship = self.ship if self.ship_pilot is None else self.ship_pilot
+            self.controllers = [c for c in (self.gait_drive, self.pilot, ship, winch) if c is not None]
             if self.tethered:  # (alone, a vehicle starts as placed: there are no contacts to load)
                 start.preroll(self, settle)
         except BaseException:
             self.sim.close()  # a run that cannot start leaves nothing registered
             raise
         self.rated_load = sc.tether.rated_load
+
+    def _vessel_pilot(self, scene) -> VehiclePilot:
+        """Turn the vessel to ``ship.heading_deg`` and give it its autopilot: station on
+        ``ship.position`` (fixed) or ``ship.waypoints`` at ``ship.speed`` by line-of-sight guidance,
+        then station on the last."""
+        m, s = self.sim.model, self.sc.ship
+        adr = m.joint("ship/ball").qposadr[0]
+        heading = math.radians(s.heading_deg)
+        self.sim.data.qpos[adr:adr + 4] = heading_quat(heading)
+        self.sim.forward()
+        body = next(b for b in self.sim.bodies if getattr(b, "name", None) == "ship")
+        vs = scene.vessel
+        acts = np.array([m.actuator(f"ship/{t.name}").id for t in vs.thrusters], dtype=int)
+        route = None if s.mode != "waypoints" else [[x, y, 0.0, s.speed] for x, y in s.waypoints]
+        pilot = VehiclePilot(np.array([[0.0, 0.0, heading, 0.0]]), vs.autopilot, vs.thrusters, acts, route=route,
+                             start=s.position, lookahead=self.sc.robot.lookahead,
+                             acceptance_radius=self.sc.robot.acceptance_radius, surface=True, body=body)
+        if route is None:
+            pilot.station = (float(s.position[0]), float(s.position[1]), 0.0, heading)
+        return pilot
 
     @property
     def end_diameter(self) -> float:

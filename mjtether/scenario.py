@@ -323,11 +323,32 @@ class Ship(Section):
     heave_period: float = param(8.0, 0.5, 100.0, "s", "heave period")
     fairlead_z: float = param(0.0, -1000.0, 0.0, "m", "height of the fairlead (where the tether leaves the ship) "
                               "relative to the water surface; negative below it")
+    vessel: str = param("", doc="a surface vessel carrying the winch instead of the prescribed ship: a shipped "
+                        "vehicle with [surface] (mjtether.vehicles.shipped()) or a vehicle file; its autopilot "
+                        "holds ship.position (fixed) or flies ship.waypoints at ship.speed by line-of-sight "
+                        "guidance, then holds the last; the tether leaves it at its tow point")
+    heading_deg: float = param(0.0, -360.0, 360.0, "deg", "vessel: heading at the start and held on station")
 
     def _check(self):
         if self.mode == "waypoints" and self.waypoints is None:
             raise ConfigError("ship.waypoints is required when ship.mode = 'waypoints': a list of [x, y] in m",
                               "ship.waypoints")
+        if self.vessel:
+            from .vehicles import load_vehicle
+            try:
+                vs = load_vehicle(self.vessel)
+            except ValueError as exc:
+                self._bad("vessel", str(exc))
+            if vs.hydro.surface is None or not vs.thrusters:
+                self._bad("vessel", f"{self.vessel} is not a surface vessel with thrusters ([surface] and "
+                          "[[thrusters]] in its vehicle file)")
+            if self.mode == "follow":
+                self._bad("mode", "follow is for the prescribed ship; a vessel (ship.vessel) holds station (fixed) "
+                          "or flies waypoints")
+            for key in ("heave_amplitude", "fairlead_z"):
+                if getattr(self, key) != 0.0:
+                    self._bad(key, "is for the prescribed ship: a vessel (ship.vessel) heaves by itself and its "
+                              "fairlead is its tow point")
 
 
 @dataclass(frozen=True)
@@ -411,6 +432,9 @@ class Robot(Section):
                 vs = load_vehicle(self.vehicle)
             except ValueError as exc:
                 self._bad("vehicle", str(exc))
+            if vs.hydro.surface is not None and self.position[2] != 0.0:
+                self._bad("position", f"{self.vehicle} is a surface vessel: its origin is on its design waterline, "
+                          "give z = 0")
             if self.manoeuvre != "none" and not any(f.yaw_per_angle for f in vs.fins):
                 self._bad("manoeuvre", f"{self.manoeuvre} needs a vehicle with a rudder (a fin that turns it in yaw); "
                           f"{self.vehicle} has none")

@@ -100,8 +100,9 @@ class Scene:
     slope_heading: float  # rad
     walker: bool
     heading: float | None  # rad, the walker's or vehicle's heading at the start
-    bodies: list = field(default_factory=list)  # rigid-body hydrodynamics (the walker's torso, a vehicle)
+    bodies: list = field(default_factory=list)  # rigid-body hydrodynamics (a vessel, the walker's torso, a vehicle)
     vehicle: VehicleSpec | None = None  # a vehicle robot's parameter file
+    vessel: VehicleSpec | None = None  # the surface vessel carrying the winch (ship.vessel), if any
 
     @property
     def line(self):
@@ -112,6 +113,16 @@ class Scene:
     def end_diameter(self) -> float:
         """Diameter (m) of the cable at the robot end (of the last section of a make-up)."""
         return float(self.makeup.element_diameter[-1]) if self.makeup is not None else self.tether_spec.diameter
+
+    def fairlead_start(self) -> np.ndarray:
+        """Where the tether leaves the ship at the start (m, world): the prescribed ship's
+        fairlead, or a vessel's tow point, the vessel level at ``ship.heading_deg``."""
+        if self.vessel is None:
+            return np.array(self.spec.body("ship").pos, dtype=float)
+        R = np.zeros(9)
+        mujoco.mju_quat2Mat(R, heading_quat(math.radians(self.sc.ship.heading_deg)))
+        x, y = self.sc.ship.position
+        return np.array([x, y, 0.0]) + R.reshape(3, 3) @ np.asarray(self.vessel.tow_point, dtype=float)
 
     def seabed_z(self, x, y):
         """Height (m) of the (possibly sloped) seabed at ``x``, ``y`` (m)."""
@@ -141,14 +152,20 @@ def build_scene(sc: Scenario) -> Scene:
     slope, slope_heading = math.radians(wsc.seabed_slope_deg), math.radians(wsc.seabed_slope_heading_deg)
     builder.add_seabed(spec, water, friction=wsc.seabed_friction, slope=slope, slope_heading=slope_heading)
     ship = Ship.from_scenario(sc)
-    body = spec.worldbody.add_body(name="ship", mocap=True, pos=ship.advance(0.0, 0.0, np.zeros(3)))
-    body.add_site(name="ship/fairlead")
-    body.add_geom(type=mujoco.mjtGeom.mjGEOM_BOX, size=[4.0, 1.5, 1.0], pos=[0, 0, 1.0], contype=0,
-                  conaffinity=0, rgba=[0.8, 0.8, 0.85, 1])
     r = sc.robot
     walker = r.type == "walker"
     scene = Scene(sc, spec, water, tether_from(sc), makeup_from(sc), winch_from(sc), ship, slope, slope_heading,
                   walker, math.radians(r.heading_deg) if r.type in ("walker", "vehicle") else None)
+    if sc.ship.vessel:  # a surface vessel carries the winch; its tow point is the fairlead
+        scene.vessel = load_vehicle(sc.ship.vessel)
+        x, y = sc.ship.position
+        scene.bodies.append(build_vehicle(spec, scene.vessel, "ship", pos=(x, y, 0.0)))
+        spec.body("ship").add_site(name="ship/fairlead", pos=list(scene.vessel.tow_point))
+    else:
+        body = spec.worldbody.add_body(name="ship", mocap=True, pos=ship.advance(0.0, 0.0, np.zeros(3)))
+        body.add_site(name="ship/fairlead")
+        body.add_geom(type=mujoco.mjtGeom.mjGEOM_BOX, size=[4.0, 1.5, 1.0], pos=[0, 0, 1.0], contype=0,
+                      conaffinity=0, rgba=[0.8, 0.8, 0.85, 1])
     if walker:
         add_walker(scene)
     elif r.type == "vehicle":

@@ -258,16 +258,18 @@ def preroll(run, settle: bool) -> None:
             for _ in range(max(1, int(round(SETTLE_S / dt))) * sub):
                 if gait is not None:
                     gait.drive(dt / sub, 0.0, 0.0)
-                if run.pilot is not None:
-                    run.pilot.update(run, 0.0, dt / sub)
+                for pilot in (run.pilot, run.ship_pilot):
+                    if pilot is not None:
+                        pilot.update(run, 0.0, dt / sub)
                 sim.step()
             if gait is not None:
                 sim.data.eq_active[m.equality("walker/hold").id] = 0
         for _ in range(max(1, int(round(PREROLL_S / dt))) * sub):
             if gait is not None:
                 gait.drive(dt / sub, 0.0, 0.0)
-            if run.pilot is not None:  # a vehicle holds its first setpoint
-                run.pilot.update(run, 0.0, dt / sub)
+            for pilot in (run.pilot, run.ship_pilot):  # a vehicle holds its first setpoint, a vessel its station
+                if pilot is not None:
+                    pilot.update(run, 0.0, dt / sub)
             sim.step()
     finally:
         m.opt.timestep = dt
