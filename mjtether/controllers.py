@@ -212,11 +212,13 @@ class VehiclePilot:
     def __init__(self, setpoints: np.ndarray, gains, thrusters, actuators: np.ndarray, route=None,
                  start=(0.0, 0.0), lookahead: float = 5.0, acceptance_radius: float = 2.0, fins=(),
                  fin_actuators=(), propeller=None, propeller_actuator=None, manoeuvre: Manoeuvre | None = None,
-                 surface: bool = False, body=None):
+                 surface: bool = False, body=None, los_integral_gain: float = 0.0):
         self.setpoints = setpoints
         self.body = body  # the vehicle flown (a vehicle.BoundVehicle); None: the run's robot
         self.route = None if route is None else np.asarray(route, dtype=float)  # rows x, y, depth, speed
         self.lookahead, self.acceptance_radius = float(lookahead), float(acceptance_radius)
+        self.los_integral_gain = float(los_integral_gain)  # kappa of integral LOS (0: plain LOS)
+        self._y_int = 0.0  # integral LOS's integral of the cross-track error (m)
         self._leg = 0  # the route's waypoint being steered to
         self._from = np.asarray(start, dtype=float)[:2].copy()  # where the leg starts (m)
         self.station = None  # (x, y, depth, heading) held once the last waypoint is reached
@@ -266,12 +268,16 @@ class VehiclePilot:
         k = int(np.searchsorted(self.setpoints[:, 0], t, side="right")) - 1
         return tuple(float(x) for x in self.setpoints[k, 1:])
 
-    def guide(self, p: np.ndarray, heading: float) -> tuple[float, float, float]:
+    def guide(self, p: np.ndarray, heading: float, h: float = 0.0, speed: float = 0.0) -> tuple[float, float, float]:
         """Line-of-sight guidance along the route (Fossen 2021, Sec. 12.3: lookahead-based
         steering): (speed m/s, heading rad, depth m) for the vehicle at ``p`` (m, world); the
-        heading aims ``lookahead`` metres down the leg from the vehicle's foot on it. A waypoint
-        within ``acceptance_radius`` (horizontally) is passed; at the last one the vehicle holds
-        station (``station``)."""
+        heading aims ``lookahead`` metres down the leg from the vehicle's foot on it. With
+        ``los_integral_gain`` kappa > 0, integral LOS (Fossen 2021, Sec. 12.3.3; Borhaug, Pavlov
+        and Pettersen 2008): the aim is moved by kappa y_int, where y_int integrates
+        U Delta e / (Delta^2 + (e + kappa y_int)^2) over the step ``h`` (s) at the vehicle's
+        ``speed`` U (m/s), e the cross-track error: a steady current's offset is taken out. A
+        waypoint within ``acceptance_radius`` (horizontally) is passed (and the integral
+        restarts); at the last one the vehicle holds station (``station``)."""
         wp = self.route
         while self.station is None and math.hypot(*(wp[self._leg, :2] - p[:2])) < self.acceptance_radius:
             if self._leg == len(wp) - 1:
@@ -279,11 +285,16 @@ class VehiclePilot:
             else:
                 self._from = wp[self._leg, :2].copy()
                 self._leg += 1
+                self._y_int = 0.0
         if self.station is not None:
             return 0.0, self.station[3], self.station[2]
         a, b = self._from, wp[self._leg, :2]
         path = math.atan2(b[1] - a[1], b[0] - a[0])
         cross = -(p[0] - a[0]) * math.sin(path) + (p[1] - a[1]) * math.cos(path)  # left of the leg: > 0
+        if self.los_integral_gain > 0.0:
+            k, delta = self.los_integral_gain, self.lookahead
+            self._y_int += h * speed * delta * cross / (delta ** 2 + (cross + k * self._y_int) ** 2)
+            cross = cross + k * self._y_int
         return float(wp[self._leg, 3]), path - math.atan(cross / self.lookahead), float(wp[self._leg, 2])
 
     def update(self, run, t: float, dt: float) -> None:
@@ -296,7 +307,10 @@ class VehiclePilot:
         nu, R = vehicle.velocity(run.sim.data)
         p = run.sim.data.xpos[vehicle.id]
         yaw = math.atan2(R[1, 0], R[0, 0])
-        speed, heading, depth = self.setpoint(t) if self.route is None else self.guide(p, yaw)
+        if self.route is None:
+            speed, heading, depth = self.setpoint(t)
+        else:
+            speed, heading, depth = self.guide(p, yaw, h, math.hypot(*(R @ nu[:3])[:2]))
         e = np.array([speed - nu[0], heading_error(heading, math.atan2(R[1, 0], R[0, 0])),
                       -depth - float(p[2])])
         band = self._band

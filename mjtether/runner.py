@@ -129,7 +129,8 @@ class ScenarioRun:
                                           start=r.position, lookahead=r.lookahead,
                                           acceptance_radius=r.acceptance_radius, fins=vs.fins, fin_actuators=fins,
                                           propeller=vs.propeller, propeller_actuator=prop,
-                                          manoeuvre=manoeuvre_from(r, vs), surface=vs.hydro.surface is not None)
+                                          manoeuvre=manoeuvre_from(r, vs), surface=vs.hydro.surface is not None,
+                                          los_integral_gain=r.los_integral_gain)
             if self.initial is not None:  # the steady state's seabed friction, carried into the run
                 self.sim.tether().preload_friction(self.sim.data, self.initial.tension)
             self.bt = self.sim.tether() if self.tethered else None

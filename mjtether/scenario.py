@@ -396,6 +396,8 @@ class Robot(Section):
                                     "[x, y, depth, speed] rows flown by line-of-sight guidance from the start; the "
                                     "vehicle holds station at the last one", kind="rows4", optional=True)
     lookahead: float = param(5.0, 0.1, 1e4, "m", "vehicle: line-of-sight lookahead distance along the route")
+    los_integral_gain: float = param(0.0, 0.0, 10.0, "", "vehicle: kappa of integral line-of-sight guidance (Fossen "
+                                     "2021, Sec. 12.3.3), which takes out a current's cross-track offset; 0: plain LOS")
     acceptance_radius: float = param(2.0, 0.01, 1e4, "m", "vehicle: a waypoint is reached within this horizontal "
                                      "distance")
     manoeuvre: str = param("none", doc="vehicle with a rudder: a standard manoeuvre from robot.manoeuvre_start_s on, "
