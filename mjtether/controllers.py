@@ -212,12 +212,16 @@ class VehiclePilot:
     def __init__(self, setpoints: np.ndarray, gains, thrusters, actuators: np.ndarray, route=None,
                  start=(0.0, 0.0), lookahead: float = 5.0, acceptance_radius: float = 2.0, fins=(),
                  fin_actuators=(), propeller=None, propeller_actuator=None, manoeuvre: Manoeuvre | None = None,
-                 surface: bool = False, body=None, los_integral_gain: float = 0.0):
+                 surface: bool = False, body=None, los_integral_gain: float = 0.0, interpolate: bool = False,
+                 pitch_schedule=None):
         self.setpoints = setpoints
         self.body = body  # the vehicle flown (a vehicle.BoundVehicle); None: the run's robot
         self.route = None if route is None else np.asarray(route, dtype=float)  # rows x, y, depth, speed
         self.lookahead, self.acceptance_radius = float(lookahead), float(acceptance_radius)
         self.los_integral_gain = float(los_integral_gain)  # kappa of integral LOS (0: plain LOS)
+        self.interpolate = bool(interpolate)  # setpoints ramped linearly between rows, not held
+        # rows (time s, pitch rad, positive nose down), linear between them: flown instead of depth
+        self.pitch_schedule = None if pitch_schedule is None else np.asarray(pitch_schedule, dtype=float)
         self._y_int = 0.0  # integral LOS's integral of the cross-track error (m)
         self._leg = 0  # the route's waypoint being steered to
         self._from = np.asarray(start, dtype=float)[:2].copy()  # where the leg starts (m)
@@ -260,13 +264,22 @@ class VehiclePilot:
                 r = propeller.position
                 self._prop_col = np.array([1.0, 0.0, 0.0, 0.0, r[2], -r[1]])
         self._max_pitch = math.radians(gains.max_pitch_deg)
+        self._i_pitch = 0.0  # integral of the pitch error (rad s), a vehicle that dives by pitching
         if gains.depth_by_pitch:  # the depth error that asks for the largest pitch, the largest integral
             self._band[2] = gains.max_pitch_deg / gains.depth_pitch_kp if gains.depth_pitch_kp > 0 else math.inf
             self._i_max[2] = gains.max_pitch_deg / gains.depth_pitch_ki if gains.depth_pitch_ki > 0 else 0.0
 
     def setpoint(self, t: float) -> tuple[float, float, float]:
-        k = int(np.searchsorted(self.setpoints[:, 0], t, side="right")) - 1
-        return tuple(float(x) for x in self.setpoints[k, 1:])
+        """(speed m/s, heading rad, depth m) at ``t`` (s): the row in force, or (``interpolate``)
+        ramped linearly between rows (the heading the short way round)."""
+        sp = self.setpoints
+        k = int(np.searchsorted(sp[:, 0], t, side="right")) - 1
+        if not self.interpolate or k + 1 >= len(sp):
+            return tuple(float(x) for x in sp[k, 1:])
+        f = (t - sp[k, 0]) / (sp[k + 1, 0] - sp[k, 0])
+        turn = heading_error(float(sp[k + 1, 2]), float(sp[k, 2]))
+        return (float(sp[k, 1] + f * (sp[k + 1, 1] - sp[k, 1])), float(sp[k, 2] + f * turn),
+                float(sp[k, 3] + f * (sp[k + 1, 3] - sp[k, 3])))
 
     def guide(self, p: np.ndarray, heading: float, h: float = 0.0, speed: float = 0.0) -> tuple[float, float, float]:
         """Line-of-sight guidance along the route (Fossen 2021, Sec. 12.3: lookahead-based
@@ -328,9 +341,17 @@ class VehiclePilot:
         K = -g.roll_kp * roll - g.roll_kd * nu[3]
         if g.depth_by_pitch:  # rise or dive by pitching (pitch > 0: nose down)
             f = np.zeros(3)
-            pitch_wanted = -math.radians(g.depth_pitch_kp * e[2] + g.depth_pitch_ki * self._i[2])
-            pitch_wanted = max(-self._max_pitch, min(self._max_pitch, pitch_wanted))
-            M = g.pitch_kp * (pitch_wanted - pitch) - g.pitch_kd * nu[4]
+            if self.pitch_schedule is not None:  # a pitch profile instead of a depth
+                ps = self.pitch_schedule
+                pitch_wanted = float(np.interp(t, ps[:, 0], ps[:, 1]))
+            else:
+                pitch_wanted = -math.radians(g.depth_pitch_kp * e[2] + g.depth_pitch_ki * self._i[2])
+                pitch_wanted = max(-self._max_pitch, min(self._max_pitch, pitch_wanted))
+            err = pitch_wanted - pitch
+            if g.pitch_ki > 0.0 and abs(err) < PILOT_BANDS[1]:  # capped at the fins' pitch moment now
+                cap = (np.abs(eff[0][4]) @ np.maximum(eff[2], -eff[1])) / g.pitch_ki if self._steered else 0.0
+                self._i_pitch = max(-cap, min(cap, self._i_pitch + err * h))
+            M = g.pitch_kp * err - g.pitch_kd * nu[4] + g.pitch_ki * self._i_pitch
         else:
             Z = g.depth_kp * e[2] - g.depth_kd * w + g.depth_ki * self._i[2]
             f = R.T @ np.array([0.0, 0.0, Z])

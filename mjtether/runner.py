@@ -130,7 +130,10 @@ class ScenarioRun:
                                           acceptance_radius=r.acceptance_radius, fins=vs.fins, fin_actuators=fins,
                                           propeller=vs.propeller, propeller_actuator=prop,
                                           manoeuvre=manoeuvre_from(r, vs), surface=vs.hydro.surface is not None,
-                                          los_integral_gain=r.los_integral_gain)
+                                          los_integral_gain=r.los_integral_gain,
+                                          interpolate=r.setpoint_interpolation == "linear",
+                                          pitch_schedule=None if r.pitch_schedule is None else
+                                          [(t, math.radians(a)) for t, a in r.pitch_schedule])
             if self.initial is not None:  # the steady state's seabed friction, carried into the run
                 self.sim.tether().preload_friction(self.sim.data, self.initial.tension)
             self.bt = self.sim.tether() if self.tethered else None

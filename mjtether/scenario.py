@@ -389,8 +389,15 @@ class Robot(Section):
     vehicle: str = param("bluerov2_heavy", doc="vehicle: a shipped vehicle (mjtether.vehicles.shipped()) or a "
                          "vehicle file (.toml, see mjtether.vehicles)")
     setpoints: tuple = param(((0.0, 0.0, 0.0, 10.0),), -1e6, 1e6, "s, m/s, deg, m", "vehicle: the autopilot's "
-                             "schedule of [time, surge speed, heading, depth], each held until the next",
-                             kind="rows4")
+                             "schedule of [time, surge speed, heading, depth], each held until the next "
+                             "(robot.setpoint_interpolation)", kind="rows4")
+    setpoint_interpolation: str = param("hold", doc="vehicle: hold (each setpoint row held until the next) or "
+                                        "linear (ramped linearly between rows: a heading profile psi(t))",
+                                        choices=("hold", "linear"))
+    pitch_schedule: tuple | None = param(None, -1e6, 1e6, "s, deg", "vehicle that dives by pitching "
+                                         "(depth_by_pitch): a pitch profile theta(t) of [time, pitch] rows, linear "
+                                         "between them (positive nose down, as recorded), flown instead of the "
+                                         "depth setpoints", kind="rows2", optional=True)
 
     waypoints: tuple | None = param(None, -1e6, 1e6, "m, m, m, m/s", "vehicle: instead of setpoints, a route of "
                                     "[x, y, depth, speed] rows flown by line-of-sight guidance from the start; the "
@@ -427,6 +434,12 @@ class Robot(Section):
                 self._bad("setpoints", "the times (first column, s) must start at 0 and increase")
             if any(s[3] < 0.0 for s in self.setpoints):
                 self._bad("setpoints", "depths (last column) are below the surface: give them >= 0 m")
+            if self.pitch_schedule is not None:
+                times = [s[0] for s in self.pitch_schedule]
+                if times[0] != 0.0 or any(b <= a for a, b in zip(times, times[1:])):
+                    self._bad("pitch_schedule", "the times (first column, s) must start at 0 and increase")
+                if any(abs(s[1]) >= 90.0 for s in self.pitch_schedule):
+                    self._bad("pitch_schedule", "pitch angles must be within (-90, 90) deg")
             if self.waypoints is not None and any(w[2] < 0.0 or w[3] < 0.0 for w in self.waypoints):
                 self._bad("waypoints", "depths (third column) and speeds (fourth) must be >= 0")
             from .vehicles import load_vehicle
@@ -437,6 +450,8 @@ class Robot(Section):
             if vs.hydro.surface is not None and self.position[2] != 0.0:
                 self._bad("position", f"{self.vehicle} is a surface vessel: its origin is on its design waterline, "
                           "give z = 0")
+            if self.pitch_schedule is not None and not vs.autopilot.depth_by_pitch:
+                self._bad("pitch_schedule", f"{self.vehicle} does not dive by pitching (autopilot.depth_by_pitch)")
             if self.manoeuvre != "none" and not any(f.yaw_per_angle for f in vs.fins):
                 self._bad("manoeuvre", f"{self.manoeuvre} needs a vehicle with a rudder (a fin that turns it in yaw); "
                           f"{self.vehicle} has none")

@@ -20,7 +20,7 @@ The file's tables (units SI; body frame x forward, y left, z up; see ``vehicle``
                    wake_fraction, max_rpm, time_constant, torque_scale (``propeller.Propeller``)
     [autopilot]    speed_kp, speed_ki, heading_kp, heading_kd, heading_ki, depth_kp, depth_kd, depth_ki,
                    roll_kp, roll_kd, pitch_kp, pitch_kd, station_kp, station_kd,
-                   depth_by_pitch, depth_pitch_kp, depth_pitch_ki, max_pitch_deg
+                   depth_by_pitch, depth_pitch_kp, depth_pitch_ki, max_pitch_deg, pitch_ki
 """
 
 from __future__ import annotations
@@ -52,7 +52,7 @@ KEYS = {
                   "wake_fraction", "max_rpm", "time_constant", "torque_scale"},
     "autopilot": {"speed_kp", "speed_ki", "heading_kp", "heading_kd", "heading_ki", "depth_kp", "depth_kd",
                   "depth_ki", "roll_kp", "roll_kd", "pitch_kp", "pitch_kd", "station_kp", "station_kd",
-                  "depth_by_pitch", "depth_pitch_kp", "depth_pitch_ki", "max_pitch_deg"},
+                  "depth_by_pitch", "depth_pitch_kp", "depth_pitch_ki", "max_pitch_deg", "pitch_ki"},
 }
 LISTS = ("thrusters", "fins")
 """The tables that may repeat ([[thrusters]], [[fins]])."""
@@ -69,7 +69,9 @@ class Autopilot:
     (N per m, N s/m). A vehicle that cannot push itself up or down (a torpedo:
     ``depth_by_pitch``) holds depth by pitching: the pitch it asks for is
     depth_pitch_kp e_z + depth_pitch_ki int(e_z) (deg per m, deg per m s), within
-    +-``max_pitch_deg``, held by the pitch loop M = pitch_kp (theta_d - theta) - pitch_kd q."""
+    +-``max_pitch_deg``, held by the pitch loop M = pitch_kp (theta_d - theta) - pitch_kd q
+    + pitch_ki int(theta_d - theta) (N m per rad s; the integral takes out what the restoring
+    moment and the hull's lift ask for at a steady pitch)."""
 
     speed_kp: float = 0.0
     speed_ki: float = 0.0
@@ -89,6 +91,7 @@ class Autopilot:
     depth_pitch_kp: float = 0.0
     depth_pitch_ki: float = 0.0
     max_pitch_deg: float = 20.0
+    pitch_ki: float = 0.0
 
 
 @dataclass(frozen=True)

@@ -18,6 +18,8 @@ and say which here:
   ``TetheredROV-v0`` added; the vehicle's forces by the compiled kernel
   (``compiled.vehicle_wrench``): the ROV example moved by rounding (largest change 2.6e-11 of
   a record value); every other run unchanged bit for bit.
+* the REMUS 100's pitch loop gained an integral (``pitch_ki``): ``remus_turning_circle`` changed;
+  every other run unchanged bit for bit.
 
     python tests/golden.py   # rewrites tests/data/golden_runs.npz
 """
