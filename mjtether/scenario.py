@@ -326,7 +326,8 @@ class Ship(Section):
     vessel: str = param("", doc="a surface vessel carrying the winch instead of the prescribed ship: a shipped "
                         "vehicle with [surface] (mjtether.vehicles.shipped()) or a vehicle file; its autopilot "
                         "holds ship.position (fixed) or flies ship.waypoints at ship.speed by line-of-sight "
-                        "guidance, then holds the last; the tether leaves it at its tow point")
+                        "guidance (robot.lookahead, robot.acceptance_radius), then holds the last; the tether "
+                        "leaves it at its tow point")
     heading_deg: float = param(0.0, -360.0, 360.0, "deg", "vessel: heading at the start and held on station")
 
     def _check(self):
