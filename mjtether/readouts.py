@@ -48,6 +48,10 @@ RECORD_FIELDS = [
     ("tether_lowest_z", "m", "height of the tether's lowest node"),
     ("length_on_seabed", "m", "tether length lying on the seabed (elements with both nodes within one diameter of it)"),
     ("slack_elements", "", "deployed elements carrying no tension"),
+    # (added later: at the end, so that every earlier column keeps its place)
+    ("cable_moment_body_x", "N m", "cable_moment in the robot's body frame (x forward)"),
+    ("cable_moment_body_y", "N m", "... body y (left)"),
+    ("cable_moment_body_z", "N m", "... body z (up)"),
 ]
 
 
@@ -59,7 +63,8 @@ def roll_pitch(R: np.ndarray) -> tuple[float, float]:
 
 TETHER_FIELDS = ("ship_tension", "ship_force_x", "ship_force_y", "ship_force_z", "tow_tension", "tow_force_x",
                  "tow_force_y", "tow_force_z", "tow_force_body_x", "tow_force_body_y", "tow_force_body_z",
-                 "cable_moment_x", "cable_moment_y", "cable_moment_z", "deployed_length", "payout_rate",
+                 "cable_moment_x", "cable_moment_y", "cable_moment_z", "cable_moment_body_x", "cable_moment_body_y",
+                 "cable_moment_body_z", "deployed_length", "payout_rate",
                  "tether_lowest_z", "length_on_seabed", "slack_elements")
 """The record's columns that describe the tether: a run without one (``tether.attached = false``)
 writes the others only."""
@@ -148,6 +153,11 @@ class Readouts:
     def tow_force_body(self) -> np.ndarray:
         """``tow_force`` in the robot's body frame (N; an anchor's frame is the world's)."""
         return self.robot_rotation.T @ self.tow_force
+
+    @property
+    def cable_moment_body(self) -> np.ndarray:
+        """``cable_moment`` in the robot's body frame (N m)."""
+        return self.robot_rotation.T @ self.cable_moment
 
     @property
     def cable_moment(self) -> np.ndarray:
@@ -343,4 +353,4 @@ class Readouts:
         return [d.time, float(np.linalg.norm(fs)), *fs, float(np.linalg.norm(fe)), *fe, *(R.T @ fe), *moment,
                 bt.deployed_length, self._run.winch.current_rate, ship[0], ship[1], *tow, math.degrees(yaw),
                 math.degrees(roll), math.degrees(pitch), speed, float(x[:, 2].min()), on_bottom,
-                bt.slack_count(d)]
+                bt.slack_count(d), *(R.T @ moment)]

@@ -20,6 +20,8 @@ and say which here:
   a record value); every other run unchanged bit for bit.
 * the REMUS 100's pitch loop gained an integral (``pitch_ki``): ``remus_turning_circle`` changed;
   every other run unchanged bit for bit.
+* the record gained three columns at its end (``cable_moment_body_x/y/z``); the 29 before them
+  unchanged bit for bit in every run.
 
     python tests/golden.py   # rewrites tests/data/golden_runs.npz
 """

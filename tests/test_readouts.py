@@ -40,6 +40,10 @@ def test_record_columns_are_the_named_readouts(walking):
         assert col(row, f"tow_force_{axis}") == n.tow_force[k]
         assert col(row, f"tow_force_body_{axis}") == pytest.approx(n.tow_force_body[k], rel=1e-12, abs=1e-9)
         assert col(row, f"cable_moment_{axis}") == pytest.approx(n.cable_moment[k], rel=1e-12, abs=1e-9)
+        assert col(row, f"cable_moment_body_{axis}") == pytest.approx(n.cable_moment_body[k], rel=1e-12, abs=1e-9)
+    R = n.robot_rotation  # the body-frame readouts are the world ones turned into the robot's frame
+    np.testing.assert_allclose(R @ n.cable_moment_body, n.cable_moment, rtol=1e-12, atol=1e-9)
+    np.testing.assert_allclose(R @ n.tow_force_body, n.tow_force, rtol=1e-12, atol=1e-9)
     assert col(row, "deployed_length") == n.deployed_length
     assert col(row, "payout_rate") == n.payout_rate
     assert col(row, "robot_heading") == pytest.approx(math.degrees(n.robot_heading), rel=1e-12)
