@@ -232,8 +232,8 @@ class FrameRenderer:
         mujoco.mjr_setBuffer(mujoco.mjtFramebuffer.mjFB_OFFSCREEN, self.ctx)
         # room for what mjv_updateScene draws (geoms, sites, tendons) and what is added here:
         # a scene that is full drops the rest of the tether, the arrows and the markers
-        self.scene = mujoco.MjvScene(m, maxgeom=m.ngeom + m.nsite + m.ntendon + len(runner.named.tether_nodes) + s.current_arrows
-                                    + 100)
+        room = m.ngeom + m.nsite + m.ntendon + len(runner.named.tether_nodes) + s.current_arrows + 100
+        self.scene = mujoco.MjvScene(m, maxgeom=room)
         if s.tuned:
             for f in (mujoco.mjtRndFlag.mjRND_SHADOW, mujoco.mjtRndFlag.mjRND_REFLECTION,
                       mujoco.mjtRndFlag.mjRND_SKYBOX):

@@ -7,7 +7,9 @@ The tether itself is added once its start is known (``start``), by ``runner.Scen
 
 The ship is a mocap body at the surface whose site ``ship/fairlead`` holds the tether's node 0;
 a mocap body has no velocity, so the soft ``connect`` trails a moving ship by about 4 dt times
-its speed. Units SI, world frame (z up, surface z = 0); the scenario's degrees become radians here.
+its speed. With ``ship.vessel`` it is a surface vessel instead (a body ``ship`` from its vehicle
+file, floating on its hydrostatics, flown by its autopilot), the fairlead at its tow point.
+Units SI, world frame (z up, surface z = 0); the scenario's degrees become radians here.
 """
 
 from __future__ import annotations

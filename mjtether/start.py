@@ -239,7 +239,8 @@ def preroll(run, settle: bool) -> None:
     soft contacts carry the laid cable's (and the walker's) weight only once they are pressed
     in; PREROLL_S of standing still lets them load, then t is reset to 0. A settling start is
     far from equilibrium: it settles for SETTLE_S with finer steps, the walker held (a vehicle
-    flying its first setpoint), then PREROLL_S released. The ship and the winch do not move."""
+    flying its first setpoint), then PREROLL_S released. The ship and the winch do not move (a
+    vessel carrying the winch holds its station on its autopilot)."""
     sim = run.sim
     m, dt = sim.model, sim.model.opt.timestep
     gait = run.gait_drive

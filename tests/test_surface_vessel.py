@@ -63,7 +63,8 @@ def _period(axis: str, duration: float) -> float:
             sim.step()
             R = d.xmat[body].reshape(3, 3)
             t.append(d.time)
-            a.append({"heave": d.xpos[body][2], "roll": math.atan2(R[2, 1], R[2, 2]), "pitch": -math.asin(R[2, 0])}[axis])
+            a.append({"heave": d.xpos[body][2], "roll": math.atan2(R[2, 1], R[2, 2]),
+                      "pitch": -math.asin(R[2, 0])}[axis])
     t, a = np.array(t), np.array(a)
     up = np.flatnonzero((a[:-1] < 0) & (a[1:] >= 0))
     tc = t[up] - a[up] * (t[up + 1] - t[up]) / (a[up + 1] - a[up])

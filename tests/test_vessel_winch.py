@@ -81,7 +81,8 @@ def test_vessel_sinks_and_trims_as_its_hydrostatics_say():
 def test_vessel_flies_its_waypoints_with_the_cable():
     """Line-of-sight guidance along ship.waypoints at 0.5 m/s: the vessel passes the first
     (within robot.acceptance_radius, 2 m) and heads for the second; it stays afloat."""
-    sc = load_scenario(text=SCENARIO.format(duration=90.0, mode="waypoints"), overrides=["robot.position=[10.0, 0.0, -60.0]"])
+    sc = load_scenario(text=SCENARIO.format(duration=90.0, mode="waypoints"),
+                       overrides=["robot.position=[10.0, 0.0, -60.0]"])
     rows, _, info = run(sc, keep_nodes=False)
     x, y = rows[:, COL["ship_x"]], rows[:, COL["ship_y"]]
     passed = np.flatnonzero(np.hypot(x - 30.0, y) < 2.0)
