@@ -298,7 +298,7 @@ def rigid_body_loads(R, p_cob, v_cob, omega, volume, height, drag_cd, drag_area,
 def vehicle_arrays(hydro, fins, propeller, r_g):
     """The parameters of ``vehicle_wrench`` from a ``VehicleHydro``, its fins, propeller and
     centre of gravity ``r_g`` (body frame): (zeroed-C_A mask (6, 6), hull (8,), fins (k, 10),
-    propeller (13,), surface (8,))."""
+    propeller (13,), surface (14,))."""
     keep = np.ones((6, 6))
     for i, j in hydro.coriolis_zeroed:
         keep[i, j] = 0.0
@@ -313,8 +313,9 @@ def vehicle_arrays(hydro, fins, propeller, r_g):
         [1.0, *p.position, p.diameter, p.kt0, p.kt_max, p.ja_max, p.kq0, p.kq_max, p.thrust_deduction,
          p.wake_fraction, p.torque_scale], dtype=float)
     sf = hydro.surface
-    surface = np.zeros(8) if sf is None else np.array(
-        [1.0, sf.waterplane_area, sf.gm_t, sf.gm_l, sf.max_volume, *r_g], dtype=float)
+    surface = np.zeros(14) if sf is None else np.array(
+        [1.0, sf.waterplane_area, sf.gm_t, sf.gm_l, sf.max_volume, *r_g, *sf.centre_of_flotation, sf.length,
+         sf.draft, sf.crossflow_cd, sf.strips], dtype=float)
     return keep, hull, fin, prop, surface
 
 
@@ -368,20 +369,34 @@ def vehicle_wrench(nu, R, z, dkind, dp, ckind, cp, gravity, MA, keep, DL, fade, 
     c2 = nu[3] * nr[1] - nu[4] * nr[0]
     for i in range(3):
         tau[i] += Mlin[i, 0] * c0 + Mlin[i, 1] * c1 + Mlin[i, 2] * c2
-    if surface[0] > 0.0:  # fossen.surface_restoring: buoyancy through the centre of gravity, righting moments
-        Vs = min(max(volume - surface[1] * z_origin, 0.0), surface[4])
+    if surface[0] > 0.0:  # fossen.surface_restoring: buoyancy through the centre of gravity, its
+        # change at the centre of flotation, righting moments; Surface.crossflow
+        xf, yf = surface[8], surface[9]
+        Vs = min(max(volume - surface[1] * (z_origin + R[2, 0] * xf + R[2, 1] * yf), 0.0), surface[4])
         B = rho * gravity * Vs
         fb0, fb1, fb2 = R[2, 0] * B, R[2, 1] * B, R[2, 2] * B
+        dB = rho * gravity * (Vs - volume)
+        db0, db1, db2 = R[2, 0] * dB, R[2, 1] * dB, R[2, 2] * dB
         gx, gy, gz = surface[5], surface[6], surface[7]
+        ax, ay = xf - gx, yf - gy
         k = rho * gravity * min(Vs, volume)
         roll = math.atan2(R[2, 1], R[2, 2])
         pitch = math.asin(max(-1.0, min(1.0, -R[2, 0])))
         tau[0] += fb0
         tau[1] += fb1
         tau[2] += fb2
-        tau[3] += gy * fb2 - gz * fb1 - k * surface[2] * math.sin(roll)
-        tau[4] += gz * fb0 - gx * fb2 - k * surface[3] * math.sin(pitch)
-        tau[5] += gx * fb1 - gy * fb0
+        tau[3] += gy * fb2 - gz * fb1 - k * surface[2] * math.sin(roll) + ay * db2
+        tau[4] += gz * fb0 - gx * fb2 - k * surface[3] * math.sin(pitch) - ax * db2
+        tau[5] += gx * fb1 - gy * fb0 + ax * db1 - ay * db0
+        if surface[12] > 0.0:
+            L, T, strips = surface[10], surface[11], int(surface[13])
+            dx = L / strips
+            for i in range(strips):
+                x = (i + 0.5) * dx - 0.5 * L
+                vy = nr[1] + x * nr[5]
+                kk = -0.5 * rho * T * surface[12] * dx * abs(vy)
+                tau[1] += kk * vy
+                tau[5] += x * kk * vy
     else:  # buoyancy at r_b (the weight is MuJoCo's)
         B = rho * gravity * volume
         fb0, fb1, fb2 = R[2, 0] * B, R[2, 1] * B, R[2, 2] * B

@@ -100,18 +100,26 @@ def lift_drag(nu_r: np.ndarray, rho: float, area: float, cd0: float, span: float
 
 
 def surface_restoring(R: np.ndarray, z: float, rho: float, gravity: float, volume: float, waterplane_area: float,
-                      gm_t: float, gm_l: float, max_volume: float, r_g) -> np.ndarray:
+                      gm_t: float, gm_l: float, max_volume: float, r_g, r_f=(0.0, 0.0)) -> np.ndarray:
     """Hydrostatics of a surface vessel (Fossen 2021, Sec. 4.2: linear restoring about the
-    floating equilibrium, G = diag(0, 0, rho g A_wp, rho g V GM_T, rho g V GM_L, 0)), made to
-    hold at any heave: the buoyancy rho g V_s with the submerged volume V_s = V - A_wp z (z the
-    origin's height above its design waterline, m), within [0, ``max_volume``], upwards through
-    the centre of gravity ``r_g`` (body frame), and the righting moments -rho g V_s' GM_T sin(phi)
-    about x and -rho g V_s' GM_L sin(theta) about y (V_s' = min(V_s, V); theta > 0 nose down).
-    Returns the body-frame wrench (N, N m) about the origin; the weight is MuJoCo's."""
-    Vs = min(max(volume - waterplane_area * z, 0.0), max_volume)
+    floating equilibrium, G = H(r_f)^T diag(0, 0, rho g A_wp, rho g V GM_T, rho g V GM_L, 0) H(r_f)
+    with the heave spring at the centre of flotation r_f), made to hold at any heave: the
+    submerged volume V_s = V - A_wp z_f, z_f the height (m) above the design waterline of the
+    waterplane's point under the centre of flotation (``r_f`` = (x, y) in the body frame, on the
+    waterline z = 0; ``z`` is the body origin's height), within [0, ``max_volume``]. The buoyancy
+    rho g V acts upwards through the centre of gravity ``r_g`` (body frame), its change
+    rho g (V_s - V) at the centre of flotation's x and y (at r_g's height: in the linear theory
+    it does not enter), and the righting moments -rho g V_s' GM_T sin(phi) about x and
+    -rho g V_s' GM_L sin(theta) about y (V_s' = min(V_s, V); theta > 0 nose down). Valid while
+    the vessel floats. Returns the body-frame wrench (N, N m) about the origin; the weight is
+    MuJoCo's."""
+    xf, yf = float(r_f[0]), float(r_f[1])
+    z_f = z + R[2, 0] * xf + R[2, 1] * yf
+    Vs = min(max(volume - waterplane_area * z_f, 0.0), max_volume)
     f = R.T @ np.array([0.0, 0.0, rho * gravity * Vs])
+    df = R.T @ np.array([0.0, 0.0, rho * gravity * (Vs - volume)])
     k = rho * gravity * min(Vs, volume)
     roll = math.atan2(R[2, 1], R[2, 2])
     pitch = math.asin(max(-1.0, min(1.0, -R[2, 0])))
-    m = cross(r_g, f)
+    m = cross(r_g, f) + cross((xf - r_g[0], yf - r_g[1], 0.0), df)
     return np.array([f[0], f[1], f[2], m[0] - k * gm_t * math.sin(roll), m[1] - k * gm_l * math.sin(pitch), m[2]])

@@ -81,19 +81,47 @@ class Hull:
 
 @dataclass(frozen=True)
 class Surface:
-    """A surface vessel's hydrostatics (``fossen.surface_restoring``): its ``waterplane_area``
-    A_wp (m^2), transverse and longitudinal metacentric heights ``gm_t`` and ``gm_l`` (m, above
-    the centre of gravity) and the volume it displaces fully submerged, ``max_volume`` (m^3). The
-    body origin is on the design waterline, where it displaces ``VehicleHydro.volume``."""
+    """A surface vessel's hydrostatics (``fossen.surface_restoring``) and cross-flow drag: its
+    ``waterplane_area`` A_wp (m^2), transverse and longitudinal metacentric heights ``gm_t`` and
+    ``gm_l`` (m, above the centre of gravity), the volume it displaces fully submerged,
+    ``max_volume`` (m^3), and its ``centre_of_flotation`` (x, y: m, body frame; the centroid of
+    the waterplane, where a change of draft acts). The body origin is on the design waterline,
+    where it displaces ``VehicleHydro.volume``.
+
+    Cross-flow drag in sway and yaw (Fossen 2021, Sec. 6.7.2, as for surface craft): ``strips``
+    strips along the ``length`` (m, about the origin), each of height ``draft`` (m) with the 2-D
+    drag coefficient ``crossflow_cd`` (0: none) in the flow across it (``fossen.crossflow_drag``
+    with the heave flow left out)."""
 
     waterplane_area: float
     gm_t: float
     gm_l: float
     max_volume: float
+    centre_of_flotation: tuple = (0.0, 0.0)
+    length: float = 0.0
+    draft: float = 0.0
+    crossflow_cd: float = 0.0
+    strips: int = 20
 
     def __post_init__(self):
         for key, unit in (("waterplane_area", "m^2"), ("gm_t", "m"), ("gm_l", "m"), ("max_volume", "m^3")):
             _checks.positive(f"surface.{key}", getattr(self, key), unit)
+        cf = np.asarray(self.centre_of_flotation, dtype=float)
+        if cf.shape != (2,) or not np.all(np.isfinite(cf)):
+            raise ValueError(f"surface.centre_of_flotation must be 2 numbers (x, y; m), got {self.centre_of_flotation!r}")
+        object.__setattr__(self, "centre_of_flotation", (float(cf[0]), float(cf[1])))
+        for key, unit in (("length", "m"), ("draft", "m"), ("crossflow_cd", "")):
+            _checks.non_negative(f"surface.{key}", getattr(self, key), unit)
+        _checks.positive_int("surface.strips", self.strips)
+        if self.crossflow_cd > 0.0 and (self.length <= 0.0 or self.draft <= 0.0):
+            raise ValueError("surface.crossflow_cd > 0 needs surface.length > 0 and surface.draft > 0 (m)")
+
+    def crossflow(self, nu_r: np.ndarray, rho: float) -> np.ndarray:
+        """Cross-flow drag in sway and yaw (body frame, N, N m about the origin)."""
+        if self.crossflow_cd == 0.0:
+            return np.zeros(6)
+        flat = np.array([nu_r[0], nu_r[1], 0.0, nu_r[3], 0.0, nu_r[5]])
+        return crossflow_drag(flat, rho, self.length, self.draft, self.crossflow_cd, self.strips)
 
 
 @dataclass(frozen=True)
@@ -171,21 +199,31 @@ class VehicleModel:
 def add_vehicle(spec: mujoco.MjSpec, name: str, *, mass: float, inertia, hydro: VehicleHydro,
                 centre_of_gravity=(0.0, 0.0, 0.0), pos=(0.0, 0.0, 0.0), size=(0.5, 0.1, 0.1),
                 rgba=(0.95, 0.75, 0.1, 1.0)) -> VehicleModel:
-    """Add a vehicle body ``name`` at ``pos`` (m, world) to ``spec``: mass (kg) and principal
-    ``inertia`` (3 numbers, kg m^2, about the centre of gravity ``centre_of_gravity``, body
-    axes); an ellipsoid of semi-axes ``size`` (m) is drawn (it has no mass and no contacts).
-    Sites: ``{name}/origin``. Set the orientation through the ball joint's qpos (w, x, y, z)."""
+    """Add a vehicle body ``name`` at ``pos`` (m, world) to ``spec``: mass (kg) and ``inertia``
+    (kg m^2, about the centre of gravity ``centre_of_gravity``, body axes): 3 principal moments,
+    or the matrix's 6 entries Ixx, Iyy, Izz, Ixy, Ixz, Iyz (MuJoCo's ``fullinertia``); an
+    ellipsoid of semi-axes ``size`` (m) is drawn (it has no mass and no contacts). Sites:
+    ``{name}/origin``. Set the orientation through the ball joint's qpos (w, x, y, z)."""
     _checks.positive(f"{name}.mass", mass, "kg")
     I = np.asarray(inertia, dtype=float)
-    if I.shape != (3,) or not np.all(np.isfinite(I)) or np.any(I <= 0):
-        raise ValueError(f"{name}.inertia must be 3 principal moments > 0 (kg m^2), got {inertia!r}")
+    if I.shape == (6,):
+        full = np.array([[I[0], I[3], I[4]], [I[3], I[1], I[5]], [I[4], I[5], I[2]]])
+        ok = np.all(np.isfinite(I)) and np.min(np.linalg.eigvalsh(full)) > 0
+    else:
+        ok = I.shape == (3,) and np.all(np.isfinite(I)) and np.all(I > 0)
+    if not ok:
+        raise ValueError(f"{name}.inertia must be 3 principal moments > 0 or the 6 entries (Ixx, Iyy, Izz, Ixy, "
+                         f"Ixz, Iyz) of a positive definite matrix (kg m^2), got {inertia!r}")
     if not isinstance(hydro, VehicleHydro):
         raise ValueError("hydro must be a VehicleHydro")
     body = spec.worldbody.add_body(name=name, pos=list(pos))
     body.explicitinertial = True
     body.mass = float(mass)
     body.ipos = list(_checks.vector3(f"{name}.centre_of_gravity", centre_of_gravity))
-    body.inertia = list(I)
+    if I.shape == (6,):
+        body.fullinertia = list(I)
+    else:
+        body.inertia = list(I)
     for k, axis in enumerate("xyz"):
         j = body.add_joint(name=f"{name}/{axis}", type=mujoco.mjtJoint.mjJNT_SLIDE, axis=list(np.eye(3)[k]))
         j.armature = 0.0
@@ -289,7 +327,9 @@ class BoundVehicle:
         if h.surface is not None:  # floating: hydrostatics about the design waterline
             sf = h.surface
             tau += surface_restoring(R, float(data.xpos[self.id][2]), rho, self.water.gravity, h.volume,
-                                     sf.waterplane_area, sf.gm_t, sf.gm_l, sf.max_volume, self._r_g)
+                                     sf.waterplane_area, sf.gm_t, sf.gm_l, sf.max_volume, self._r_g,
+                                     sf.centre_of_flotation)
+            tau += sf.crossflow(nu_r, rho)
         else:
             B = rho * self.water.gravity * h.volume
             tau -= restoring_force(R, 0.0, B, np.zeros(3), self._r_b)  # the buoyancy (MuJoCo weighs it)

@@ -5,13 +5,16 @@ name or a path.
 
 The file's tables (units SI; body frame x forward, y left, z up; see ``vehicle`` and ``thruster``)::
 
-    [vehicle]      name, mass, inertia, centre_of_gravity, size (drawn ellipsoid semi-axes),
+    [vehicle]      name, mass, inertia (3 principal moments, or 6: Ixx, Iyy, Izz, Ixy, Ixz, Iyz
+                   of the matrix about the centre of gravity), centre_of_gravity, size (drawn
+                   ellipsoid semi-axes),
                    tow_point, sources (a table: parameter -> where it comes from)
     [hydro]        volume, centre_of_buoyancy, added_mass, linear_damping, quadratic_damping,
                    linear_damping_fade, coriolis_zeroed
     [hull]         length, diameter, axial_cd, crossflow_cd, reference_area, oswald, strips
                    (a torpedo's hull lift and drag, ``vehicle.Hull``)
-    [surface]      waterplane_area, gm_t, gm_l, max_volume (a surface vessel's hydrostatics,
+    [surface]      waterplane_area, gm_t, gm_l, max_volume, centre_of_flotation, length, draft,
+                   crossflow_cd, strips (a surface vessel's hydrostatics and cross-flow drag,
                    ``vehicle.Surface``; its origin on the design waterline)
     [[thrusters]]  name, position, direction, max_forward, max_reverse, time_constant
     [[fins]]       name, position, lift_direction, area, cl_delta, max_angle_deg, time_constant,
@@ -44,7 +47,8 @@ KEYS = {
     "hydro": {"volume", "centre_of_buoyancy", "added_mass", "linear_damping", "quadratic_damping",
               "linear_damping_fade", "coriolis_zeroed"},
     "hull": {"length", "diameter", "axial_cd", "crossflow_cd", "reference_area", "oswald", "strips"},
-    "surface": {"waterplane_area", "gm_t", "gm_l", "max_volume"},
+    "surface": {"waterplane_area", "gm_t", "gm_l", "max_volume", "centre_of_flotation", "length", "draft",
+                "crossflow_cd", "strips"},
     "thrusters": {"name", "position", "direction", "max_forward", "max_reverse", "time_constant"},
     "fins": {"name", "position", "lift_direction", "area", "cl_delta", "max_angle_deg", "time_constant",
              "stall_angle_deg", "post_stall_lift"},

@@ -202,14 +202,15 @@ def _vehicle_wrenches(monkeypatch, kernels, name, water, states):
     return np.array(out)
 
 
-@pytest.mark.parametrize("name", ["remus100", "remus100_stall", "bluerov2_heavy"])
+@pytest.mark.parametrize("name", ["remus100", "remus100_stall", "bluerov2_heavy", "otter"])
 @pytest.mark.parametrize("density, current", PROFILES, ids=lambda p: type(p).__name__)
 def test_vehicle_wrench_matches_the_numpy_kernel(monkeypatch, name, density, current):
-    """Random states of a vehicle (orientation, depth 0.5-60 m, velocities, fin angles up to
-    0.5 rad, past a 10 deg stall for ``remus100_stall``, shaft speeds ahead and astern) in each
-    water column: the compiled ``vehicle_wrench`` against ``BoundVehicle.wrench``'s NumPy path
-    (hull lift and drag, cross-flow, fins, propeller, C_A with its zeroed entries, faded
-    damping, buoyancy)."""
+    """Random states of a vehicle (orientation, depth 0.5-60 m, or for the Otter heave within
+    0.3 m of its waterline, velocities, fin angles up to 0.5 rad, past a 10 deg stall for
+    ``remus100_stall``, shaft speeds ahead and astern) in each water column: the compiled
+    ``vehicle_wrench`` against ``BoundVehicle.wrench``'s NumPy path (hull lift and drag,
+    cross-flow, fins, propeller, C_A with its zeroed entries, faded damping, buoyancy, a surface
+    vessel's hydrostatics about its centre of flotation and its cross-flow drag)."""
     from mjtether.vehicles import build_vehicle
 
     water = wm.WaterColumn(depth=100.0, density=density, current=current)
@@ -219,7 +220,8 @@ def test_vehicle_wrench_matches_the_numpy_kernel(monkeypatch, name, density, cur
     states = []
     for _ in range(50):
         q = RNG.normal(size=4)
-        qpos = np.r_[RNG.normal(size=2), -RNG.uniform(0.5, 60.0), q / np.linalg.norm(q)]
+        z = RNG.uniform(-0.3, 0.3) if name == "otter" else -RNG.uniform(0.5, 60.0)
+        qpos = np.r_[RNG.normal(size=2), z, q / np.linalg.norm(q)]
         qvel = RNG.normal(size=6) * [1.5, 1.0, 1.0, 0.5, 0.5, 0.5]
         act = RNG.uniform(-0.5, 0.5, size=m.na)
         if name.startswith("remus100"):
