@@ -107,29 +107,6 @@ def test_full_thrust_makes_six_knots():
     assert 2 * T_MAX / XU == pytest.approx(6 * 1852 / 3600, rel=1e-3)
 
 
-def test_hong2020_usv_runs_at_its_froude_scaled_otter_speed():
-    """``hong2020_usv`` (Hong et al. 2020's dimensions and thrusters with Fossen's Otter rules,
-    Froude-scaled from 2 m to 3 m): at the paper's 29.2 kgf per thruster (clipped to their
-    measured 29.12 kgf maximum) on a held heading it runs at 2 T / X_u with X_u the Otter's
-    scaled by 1.5^2.5, to 0.5 %. (The paper's own simulation: about 0.8 m/s; docs/vehicles.md.)"""
-    t_max = 29.12 * G
-    water = mt.WaterColumn(depth=50.0, density=mt.ConstantDensity(RHO), gravity=G)
-    spec = mujoco.MjSpec()
-    spec.option.timestep = 0.005
-    spec.option.gravity = [0.0, 0.0, -G]
-    vm = build_vehicle(spec, load_vehicle("hong2020_usv"), "usv")
-    with mt.Simulation(spec, water, bodies=[vm]) as sim:
-        m, d = sim.model, sim.data
-        b = sim.bodies[0].id
-        d.ctrl[m.actuator("usv/port").id] = d.ctrl[m.actuator("usv/starboard").id] = 29.2 * G
-        for _ in range(int(60.0 / 0.005)):
-            R = d.xmat[b].reshape(3, 3)
-            d.xfrc_applied[b, 5] = -4000.0 * _heading(R) - 4000.0 * d.qvel[5]
-            sim.step()
-        u = float((d.xmat[b].reshape(3, 3).T @ d.qvel[0:3])[0])
-    assert u == pytest.approx(2 * t_max / (XU * 1.5 ** 2.5), rel=0.005)
-
-
 def _crossflow(v, r):
     """Strip cross-flow drag on one pontoon's draft, sway and yaw (midpoint strips)."""
     dx = LENGTH / 20
