@@ -41,8 +41,10 @@ Reward per step::
 The episode terminates when the umbilical's ship-end tension exceeds the rated load, the
 vehicle is more than ``max_error`` m from its target, or it reaches the surface; it is
 truncated by ``max_episode_steps`` (600: 60 s at the default 0.1 s per step). ``info`` holds the
-reward terms, the target, the distance to it, the waypoint reached, the tensions and the
-vehicle's position; ``is_success`` when it is within ``acceptance_radius`` of the last target.
+reward terms, the target, the distance to it, the waypoint reached, the tensions, the
+vehicle's position and the tangle monitor's readings (``cable_clearance`` from the vehicle,
+``cable_self_clearance`` and ``cable_plan_crossings``, m and a count; +inf where there is nothing
+to check); ``is_success`` when it is within ``acceptance_radius`` of the last target.
 
 Baseline: ``baselines.StationKeepingPID`` (mjtether's autopilot with the vehicle file's gains).
 """
@@ -241,10 +243,13 @@ class TetheredROVEnv(TetherEnv):
         n = self.runner.named
         err = self._target_error()
         dist = float(np.linalg.norm(err[:3]))
+        tg = n.tangle()
         return {**terms, "target": self.targets[self.leg].copy(), "target_distance": dist, "waypoint": self.leg,
                 "is_success": bool(self.leg == len(self.targets) - 1 and dist <= self.acceptance_radius),
                 "ship_tension": n.ship_tension, "tow_tension": n.tow_tension, "deployed_length": n.deployed_length,
-                "position": self._vehicle_state()[0], "rated_load_exceeded": self.broke, "time": n.time}
+                "position": self._vehicle_state()[0], "rated_load_exceeded": self.broke, "time": n.time,
+                "cable_clearance": tg["clearance"], "cable_self_clearance": tg["self_clearance"],
+                "cable_plan_crossings": tg["plan_crossings"]}
 
     # ---------------------------------------------------------------- rendering
 

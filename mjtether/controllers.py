@@ -97,7 +97,8 @@ class WinchDrive:
     def update(self, run, t: float, dt: float) -> None:
         tension = run.bt.end_tension(run.sim.data, "start")
         progress = run.named.progress_rate() if self.winch.mode == "follow" else 0.0
-        run.bt.set_length(self.winch.advance(dt, t, tension, progress), rate=self.winch.current_rate)
+        drum = run.bt.drum_element() if self.winch.mode == "free" else None
+        run.bt.set_length(self.winch.advance(dt, t, tension, progress, drum), rate=self.winch.current_rate)
 
 
 class GaitDrive:
@@ -195,6 +196,68 @@ class Manoeuvre:
         if turned >= self.zigzag_heading:  # the heading has gone far enough the rudder's way: reverse it
             self._angle = -self._angle
         return self._angle
+
+
+class PathDrive:
+    """A vehicle moved along a prescribed path (``robot.path``) instead of flown: before each
+    physics step its pose and velocity are set to the path's, so that whatever the cable and the
+    water do, it moves as given (the 001 paper's "AUV moving at equilibrium conditions": its
+    thrust makes up the cable's pull, which is the output).
+
+    ``rows``: (time s, speed through the water m/s along the body's x axis, heading rad, pitch
+    rad, positive nose down), linear between rows and held after the last; the current at the
+    vehicle's depth carries it besides; ``start``: the origin's position at
+    t = 0 (m, world); ``body``: the vehicle's ``BoundVehicle`` (its joints: three slides from
+    the position it was built at, ``origin0``, and a ball)."""
+
+    def __init__(self, rows, start, origin0, model, body):
+        self.rows = np.asarray(rows, dtype=float)
+        self._p = np.asarray(start, dtype=float).copy()
+        self._origin0 = np.asarray(origin0, dtype=float)
+        self._t = 0.0
+        self._slide = body._v
+        ball = model.joint(f"{body.name}/ball")
+        self._qball = int(ball.qposadr[0])
+        self._wball = body._w
+
+    def _at(self, t: float):
+        """(speed, heading, pitch) at t, and the heading's and pitch's rates (rad/s)."""
+        r = self.rows
+        k = int(np.searchsorted(r[:, 0], t, side="right")) - 1
+        if k >= len(r) - 1:
+            return float(r[-1, 1]), float(r[-1, 2]), float(r[-1, 3]), 0.0, 0.0
+        f = (t - r[k, 0]) / (r[k + 1, 0] - r[k, 0])
+        a, b = r[k], r[k + 1]
+        span = b[0] - a[0]
+        return (float(a[1] + f * (b[1] - a[1])), float(a[2] + f * (b[2] - a[2])), float(a[3] + f * (b[3] - a[3])),
+                float((b[2] - a[2]) / span), float((b[3] - a[3]) / span))
+
+    @staticmethod
+    def rotation(heading: float, pitch: float) -> np.ndarray:
+        """Body to world: R = Rz(heading) Ry(pitch) (z up; a positive pitch turns the nose down)."""
+        cp, sp, ch, sh = math.cos(pitch), math.sin(pitch), math.cos(heading), math.sin(heading)
+        return np.array([[ch * cp, -sh, ch * sp], [sh * cp, ch, sh * sp], [-sp, 0.0, cp]])
+
+    def velocity(self, t: float, current) -> np.ndarray:
+        """The origin's velocity (m/s, world) at t: the path's speed along the nose through the
+        water, plus the ``current`` (m/s, world) that carries it."""
+        U, psi, th, _, _ = self._at(t)
+        return U * self.rotation(psi, th)[:, 0] + current
+
+    def update(self, run, t: float, dt: float) -> None:
+        current = run.named.current_at(min(float(self._p[2]), 0.0))
+        if t > self._t:  # the origin moves on by the midpoint rule (called again at the same t: no move)
+            self._p += (t - self._t) * self.velocity(0.5 * (self._t + t), current)
+            self._t = t
+        U, psi, th, dpsi, dth = self._at(t)
+        R = self.rotation(psi, th)
+        d = run.sim.data
+        d.qpos[self._slide] = self._p - self._origin0
+        d.qvel[self._slide] = U * R[:, 0] + current
+        cz, sz, cy, sy = math.cos(0.5 * psi), math.sin(0.5 * psi), math.cos(0.5 * th), math.sin(0.5 * th)
+        d.qpos[self._qball:self._qball + 4] = [cz * cy, -sz * sy, cz * sy, sz * cy]  # q_z(psi) q_y(pitch)
+        w_world = np.array([0.0, 0.0, dpsi]) + dth * R[:, 1]
+        d.qvel[self._wball] = R.T @ w_world
 
 
 class VehiclePilot:

@@ -18,6 +18,8 @@ import math
 import mujoco
 import numpy as np
 
+from . import tangle
+
 RECORD_FIELDS = [
     ("time", "s", "simulated time"),
     ("ship_tension", "N", "tension at the ship (magnitude of the force on the fairlead)"),
@@ -52,6 +54,15 @@ RECORD_FIELDS = [
     ("cable_moment_body_x", "N m", "cable_moment in the robot's body frame (x forward)"),
     ("cable_moment_body_y", "N m", "... body y (left)"),
     ("cable_moment_body_z", "N m", "... body z (up)"),
+    ("cable_clearance", "m", "tangle monitor: the cable's smallest clearance from a vehicle's hull (a capsule of its "
+     "drawn length and largest half-breadth), thrusters, fins and propeller, the robot's or the vessel's, leaving "
+     "out the cable within a hull length of its own tow point (negative: through the hull; that hull length when "
+     "no cable is left to check); only in runs with a vehicle"),
+    ("cable_self_clearance", "m", "tangle monitor: the cable's smallest distance from itself, between elements "
+     "with at least 5 nominal element lengths of cable between them (that length when the cable is too short)"),
+    ("cable_plan_crossings", "", "tangle monitor: how many pairs of such elements cross in plan view"),
+    ("cable_wrap", "deg", "tangle monitor: the angle the cable sweeps round the vehicle in plan view within two "
+     "hull lengths (or two elements) of it (360: one full turn); only in runs with a vehicle"),
 ]
 
 
@@ -61,13 +72,35 @@ def roll_pitch(R: np.ndarray) -> tuple[float, float]:
     return math.atan2(R[2, 1], R[2, 2]), math.asin(max(-1.0, min(1.0, -R[2, 0])))
 
 
+TANGLE_FIELDS = ("cable_clearance", "cable_self_clearance", "cable_plan_crossings", "cable_wrap")
+"""The tangle monitor's columns (``Readouts.tangle``): none without a tether."""
+VEHICLE_FIELDS = ("cable_clearance", "cable_wrap")
+"""The tangle monitor's columns about a vehicle: written only in a run with one (a vehicle robot
+or a vessel carrying the winch)."""
+
 TETHER_FIELDS = ("ship_tension", "ship_force_x", "ship_force_y", "ship_force_z", "tow_tension", "tow_force_x",
                  "tow_force_y", "tow_force_z", "tow_force_body_x", "tow_force_body_y", "tow_force_body_z",
                  "cable_moment_x", "cable_moment_y", "cable_moment_z", "cable_moment_body_x", "cable_moment_body_y",
                  "cable_moment_body_z", "deployed_length", "payout_rate",
-                 "tether_lowest_z", "length_on_seabed", "slack_elements")
+                 "tether_lowest_z", "length_on_seabed", "slack_elements", *TANGLE_FIELDS)
 """The record's columns that describe the tether: a run without one (``tether.attached = false``)
 writes the others only."""
+
+
+
+
+def _hull(body: int, vs, at_end: bool) -> tuple:
+    """A vehicle (``vehicles.VehicleSpec``) for the tangle monitor: its hull as a capsule along
+    its body x of its drawn length and largest half-breadth (``size``), its thrusters', fins'
+    and propeller's positions, and the arc (its length) of cable by its tow point left out."""
+    a, b, c = (float(v) for v in vs.size)
+    r = max(b, c)
+    half = max(a - r, 0.0)
+    pts = [t.position for t in vs.thrusters] + [f.position for f in vs.fins]
+    if vs.propeller is not None:
+        pts.append(vs.propeller.position)
+    return (body, np.array([-half, 0.0, 0.0]), np.array([half, 0.0, 0.0]), r,
+            np.asarray(pts, dtype=float).reshape(-1, 3), 2.0 * a, at_end)
 
 
 class NoTether:
@@ -76,6 +109,7 @@ class NoTether:
 
     first = 0
     deployed_length = 0.0
+    l0 = 1.0
     rest_lengths = np.zeros(0)
 
     def __init__(self, model, data):
@@ -121,6 +155,15 @@ class Readouts:
         self.tow_site = m.site(f"{prefix}/tow_point").id if self._bodied else None
         """Site id of the robot's tow point (None for an anchor)."""
         self._vel6 = np.zeros(6)
+        # the tangle monitor's vehicles: (body id, hull end a, hull end b, radius, points (body frame),
+        # excluded arc m, cable tied at its last node?)
+        self.hulls = []
+        if run.is_vehicle:
+            self.hulls.append(_hull(m.body("vehicle").id, run.scene.vehicle, True))
+        if getattr(run.scene, "vessel", None) is not None:
+            self.hulls.append(_hull(self._ship_body, run.scene.vessel, False))
+        self.last_tangle = None
+        """The latest ``tangle()``: what the record and the monitor's events read."""
 
     # ------------------------------------------------------------------ the tether's ends
 
@@ -333,6 +376,38 @@ class Readouts:
         """Current velocity (m/s, world) at heights ``z`` (m), shape ``z.shape + (3,)``."""
         return self._run.water.velocity(np.asarray(z, dtype=float))
 
+    # ------------------------------------------------------------------ the tangle monitor
+
+    def tangle(self, x: np.ndarray | None = None) -> dict:
+        """The tangle monitor (``mjtether.tangle``) on the deployed cable ``x`` (its nodes; read
+        now by default): ``clearance`` (m) and ``clearance_at`` (the cable's closest point, m,
+        world) from the nearest vehicle, ``self_clearance`` (m) and ``self_clearance_at``,
+        ``plan_crossings`` and ``wrap`` (rad). Where there is nothing to check (all the cable
+        within the monitor's blind arc: a hull length from a tow point, 5 nominal elements for
+        the cable itself), the clearance is +inf and its place the ship's fairlead."""
+        d = self._sim.data
+        x = self._bt.nodes(d) if x is None else x
+        out = {"clearance": math.inf, "clearance_at": x[0].copy(), "wrap": 0.0}
+        for body, a, b, r, pts, exclude, at_end in self.hulls:
+            R, p = d.xmat[body].reshape(3, 3), d.xpos[body]
+            c, where = tangle.vehicle_clearance(x, p + R @ a, p + R @ b, r, p + pts @ R.T, exclude, at_end)
+            if c < out["clearance"]:
+                out["clearance"], out["clearance_at"] = c, where
+            out["wrap"] = max(out["wrap"], tangle.wrap_angle(x, p, max(2.0 * exclude, 2.0 * self._bt.l0)))
+        c, where, crossings = tangle.self_clearance(x, 5.0 * self._bt.l0)
+        out["self_clearance"], out["self_clearance_at"], out["plan_crossings"] = c, where, crossings
+        self.last_tangle = out
+        return out
+
+    def tangle_record(self, x: np.ndarray | None = None) -> list:
+        """The record's tangle columns (``TANGLE_FIELDS``): where the monitor has nothing to
+        check, its blind arc (the shortest hull length; 5 nominal elements) in place of +inf."""
+        t = self.tangle(x)
+        blind = min((h[5] for h in self.hulls), default=0.0)
+        c = t["clearance"] if math.isfinite(t["clearance"]) else blind
+        sc = t["self_clearance"] if math.isfinite(t["self_clearance"]) else 5.0 * self._bt.l0
+        return [c, sc, float(t["plan_crossings"]), math.degrees(t["wrap"])]
+
     # ------------------------------------------------------------------ the record
 
     def record(self) -> list:
@@ -353,4 +428,4 @@ class Readouts:
         return [d.time, float(np.linalg.norm(fs)), *fs, float(np.linalg.norm(fe)), *fe, *(R.T @ fe), *moment,
                 bt.deployed_length, self._run.winch.current_rate, ship[0], ship[1], *tow, math.degrees(yaw),
                 math.degrees(roll), math.degrees(pitch), speed, float(x[:, 2].min()), on_bottom,
-                bt.slack_count(d), *(R.T @ moment)]
+                bt.slack_count(d), *(R.T @ moment), *self.tangle_record(x)]

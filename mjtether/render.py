@@ -8,7 +8,8 @@ built (seabed, ship, walker), and, drawn into the scene for the frame only:
   ``tension_scale`` N, blue (slack) to red, the ``turbo`` colour map);
 * the water surface as a translucent plane at z = 0;
 * current arrows at a few depths (length proportional to speed, stated in the overlay);
-* a text overlay (time, tow tension, ship-end tension, deployed length) and a colour bar;
+* a text overlay (time, tow tension, ship-end tension, deployed length, the cable's clearance from a
+  vehicle; a warning, top right, when the tangle monitor's thresholds are crossed) and a colour bar;
 * the caller's ``FrameRenderer.markers`` (``Marker``: e.g. a goal), geoms of the scene only.
 
 The renderer only reads the simulation (``mjv_updateScene`` and the tether's constraint forces),
@@ -352,8 +353,21 @@ class FrameRenderer:
             return
         left = "time\ntow tension\nship tension\ndeployed"
         right = f"{n.time:7.2f} s\n{n.tow_tension:7.0f} N\n{n.ship_tension:7.0f} N\n{n.deployed_length:7.1f} m"
+        t = n.tangle() if n.hulls or self.runner.sc.tangle.self_clearance_m > 0 else None
+        if t is not None and n.hulls:
+            left += "\ncable clearance"
+            right += f"\n{t['clearance']:7.2f} m" if math.isfinite(t["clearance"]) else "\n      -"
         mujoco.mjr_overlay(mujoco.mjtFont.mjFONT_NORMAL, mujoco.mjtGridPos.mjGRID_TOPLEFT, self.viewport,
                            left, right, self.ctx)
+        if t is not None:  # the tangle monitor's thresholds (scenario [tangle]) crossed: say so, top right
+            cfg, warn = self.runner.sc.tangle, []
+            if cfg.clearance_m > 0 and t["clearance"] < cfg.clearance_m:
+                warn.append(f"cable within {t['clearance']:.2f} m of the vehicle")
+            if cfg.self_clearance_m > 0 and (t["self_clearance"] < cfg.self_clearance_m or t["plan_crossings"]):
+                warn.append(f"cable within {t['self_clearance']:.2f} m of itself")
+            if warn:
+                mujoco.mjr_overlay(mujoco.mjtFont.mjFONT_NORMAL, mujoco.mjtGridPos.mjGRID_TOPRIGHT, self.viewport,
+                                   "TANGLE RISK", "\n".join(warn), self.ctx)
         # colour bar, bottom left: 10 steps from 0 to the scale
         w, h = self.s.width, self.s.height
         bar_w, bar_h = max(w // 40, 4), max(h // 30, 3)

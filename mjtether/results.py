@@ -5,7 +5,8 @@ Files (all SI units; ``docs/scenarios.md`` lists the CSV columns):
 * ``timeseries.csv``: one row per output sample, columns ``runner.RECORD_FIELDS`` named
   ``<name>_<unit>`` (without the tether's, ``readouts.TETHER_FIELDS``, for a vehicle run
   without one, ``tether.attached = false``: then there is no ``tether.npz``, ``tension.png``
-  nor ``profile.png`` either);
+  nor ``profile.png`` either; without the tangle monitor's about a vehicle,
+  ``readouts.VEHICLE_FIELDS``, for a run without a vehicle);
 * ``tether.npz``: ``time`` (n,) s; ``nodes`` (n, e+1, 3), node positions in m; ``tension``
   (n, e), element tensions in N (never negative: elements carry tension only; 0 when slack);
   ``element_length`` (n, e), stretched element lengths in m. The e elements allocated are
@@ -39,15 +40,23 @@ import numpy as np
 from .builder import seabed_height
 from .water import WaterColumn
 from .outdir import Staging, check_target
-from .readouts import TETHER_FIELDS
+from .readouts import TETHER_FIELDS, VEHICLE_FIELDS
 from .runner import RECORD_FIELDS
 
 
-def column_names(tethered: bool = True) -> list[str]:
-    """The CSV's column names (``name_unit``), those of ``RECORD_FIELDS`` less the tether's
-    (``readouts.TETHER_FIELDS``) for a run without one."""
-    return [f"{name}_{unit.replace(' ', '').replace('/', 'per')}" if unit else name
-            for name, unit, _ in RECORD_FIELDS if tethered or name not in TETHER_FIELDS]
+def written(tethered: bool = True, vehicle: bool = True) -> list[int]:
+    """Indices of the ``RECORD_FIELDS`` a run writes: all but the tether's
+    (``readouts.TETHER_FIELDS``) for a run without one, and but the tangle monitor's about a
+    vehicle (``readouts.VEHICLE_FIELDS``) for a run without a vehicle."""
+    return [i for i, (name, _, _) in enumerate(RECORD_FIELDS)
+            if (tethered or name not in TETHER_FIELDS) and (vehicle or name not in VEHICLE_FIELDS)]
+
+
+def column_names(tethered: bool = True, vehicle: bool = True) -> list[str]:
+    """The CSV's column names (``name_unit``) of the fields ``written`` writes."""
+    names = [f"{name}_{unit.replace(' ', '').replace('/', 'per')}" if unit else name
+             for name, unit, _ in RECORD_FIELDS]
+    return [names[i] for i in written(tethered, vehicle)]
 
 
 def _jsonable(x):
@@ -79,6 +88,20 @@ def summary(sc, rows: np.ndarray, info: dict, scenario_path) -> dict:
     if not info.get("tethered", True):  # no tether: no tensions to report
         out["final"] = {"time_s": out["final"]["time_s"]}
         del out["peak"]
+    else:  # the tangle monitor's worst moments, and its events
+        t = rows[:, col["time"]]
+        tg = {}
+        keys = [("cable_self_clearance", "min_cable_self_clearance", "_m", np.argmin),
+                ("cable_plan_crossings", "max_cable_plan_crossings", "", np.argmax)]
+        if info.get("vehicle", True):
+            keys = [("cable_clearance", "min_cable_clearance", "_m", np.argmin), *keys,
+                    ("cable_wrap", "max_cable_wrap", "_deg", np.argmax)]
+        for name, label, unit, pick in keys:
+            k = int(pick(rows[:, col[name]]))
+            tg[label + unit] = float(rows[k, col[name]])
+            tg[label + "_time_s"] = float(t[k])
+        tg["events"] = info.get("tangle_events", [])
+        out["tangle"] = tg
     return out
 
 
@@ -93,12 +116,13 @@ def write(out, sc: dict, rows: np.ndarray, history: dict, info: dict, scenario_p
     target = check_target(out, overwrite=overwrite, protect=[scenario_path] if scenario_path else ())
     nodes = history["nodes"]
     tethered = info.get("tethered", True)
-    keep = [i for i, (name, _, _) in enumerate(RECORD_FIELDS) if tethered or name not in TETHER_FIELDS]
+    vehicle = info.get("vehicle", True)
+    keep = written(tethered, vehicle)
     with Staging(target, overwrite=overwrite) as stage:
         tmp = stage.path
         with open(tmp / "timeseries.csv", "w", newline="") as fh:
             w = csv.writer(fh)
-            w.writerow(column_names(tethered))
+            w.writerow(column_names(tethered, vehicle))
             for r in rows:
                 w.writerow([f"{v:.9g}" for v in r[keep]])
         if tethered:

@@ -22,7 +22,7 @@ import mujoco
 import numpy as np
 
 from . import builder, start
-from .controllers import GaitDrive, Manoeuvre, Ship, VehiclePilot, WinchDrive  # noqa: F401 - Ship: the run's ship kinematics
+from .controllers import GaitDrive, Manoeuvre, PathDrive, Ship, VehiclePilot, WinchDrive  # noqa: F401 - Ship: the run's ship kinematics
 from .readouts import RECORD_FIELDS, Readouts, roll_pitch  # noqa: F401 - the record's columns
 from .scenario import Scenario
 from .scene import VEHICLE, build_scene, heading_quat, makeup_from, tether_from, vehicle_tow_point  # noqa: F401
@@ -76,12 +76,16 @@ class ScenarioRun:
         self.robot_position = robot
         self.tethered = sc.tether.attached
         top = scene.fairlead_start()
-        if self.tethered:
+        empty = self.tethered and sc.winch.start_empty
+        if empty:
+            start.check_at_fairlead(top, robot, sc.robot.position)
+            self.initial, self.initial_note = None, "nothing deployed: the vehicle starts at the fairlead"
+        elif self.tethered:
             self.initial, self.initial_note = start.steady_start(scene, top, robot, dt)
         else:
             self.initial, self.initial_note = None, "no tether: the vehicle runs alone, level and at rest"
         how = sc.simulation.start
-        if not self.tethered:
+        if not self.tethered or empty:
             settle = False
         elif how == "settle" or (how == "auto" and self.initial is None):
             settle, self.initial = True, None
@@ -99,7 +103,10 @@ class ScenarioRun:
             hold.active = True
         self.tm = None
         if self.tethered:
-            nodes = start.fallback_nodes(scene, top, robot) if settle else self.initial.nodes
+            if empty:  # every node at the fairlead; set_length(0) below stows them on the drum
+                nodes = np.tile(top, (self.line.segments + 1, 1))
+            else:
+                nodes = start.fallback_nodes(scene, top, robot) if settle else self.initial.nodes
             self.tm = builder.add_tether(spec, self.line, builder.SitePoint("ship/fairlead"), end,
                                          water=self.water, nodes=nodes, seabed_friction=sc.tether.seabed_friction,
                                          seabed_stiffness=sc.water.seabed_stiffness or None,
@@ -125,18 +132,27 @@ class ScenarioRun:
                 r = sc.robot
                 fins = np.array([m.actuator(f"{VEHICLE}/{f.name}").id for f in vs.fins], dtype=int)
                 prop = None if vs.propeller is None else m.actuator(f"{VEHICLE}/{vs.propeller.name}").id
-                self.pilot = VehiclePilot(sp, vs.autopilot, vs.thrusters, acts, route=r.waypoints,
-                                          start=r.position, lookahead=r.lookahead,
-                                          acceptance_radius=r.acceptance_radius, fins=vs.fins, fin_actuators=fins,
-                                          propeller=vs.propeller, propeller_actuator=prop,
-                                          manoeuvre=manoeuvre_from(r, vs), surface=vs.hydro.surface is not None,
-                                          los_integral_gain=r.los_integral_gain,
-                                          interpolate=r.setpoint_interpolation == "linear",
-                                          pitch_schedule=None if r.pitch_schedule is None else
-                                          [(t, math.radians(a)) for t, a in r.pitch_schedule])
+                if r.path is not None:  # moved along its path instead of flown
+                    rows = np.array(r.path, dtype=float)
+                    rows[:, 2:] = np.radians(rows[:, 2:])
+                    self.pilot = PathDrive(rows, r.position, r.position, m, self.vehicle)
+                else:
+                    self.pilot = VehiclePilot(sp, vs.autopilot, vs.thrusters, acts, route=r.waypoints,
+                                              start=r.position, lookahead=r.lookahead,
+                                              acceptance_radius=r.acceptance_radius, fins=vs.fins, fin_actuators=fins,
+                                              propeller=vs.propeller, propeller_actuator=prop,
+                                              manoeuvre=manoeuvre_from(r, vs), surface=vs.hydro.surface is not None,
+                                              los_integral_gain=r.los_integral_gain,
+                                              interpolate=r.setpoint_interpolation == "linear",
+                                              pitch_schedule=None if r.pitch_schedule is None else
+                                              [(t, math.radians(a)) for t, a in r.pitch_schedule])
             if self.initial is not None:  # the steady state's seabed friction, carried into the run
                 self.sim.tether().preload_friction(self.sim.data, self.initial.tension)
             self.bt = self.sim.tether() if self.tethered else None
+            if empty:
+                self.bt.set_length(0.0, rate=0.0)
+                self.winch.length = 0.0
+                self.sim.forward()
             self.named = Readouts(self)
             self.torso, self.tow_site = self.named.torso, self.named.tow_site
             if self.gait_drive is not None:
@@ -145,8 +161,8 @@ class ScenarioRun:
             winch = WinchDrive(self.winch) if self.tethered else None
             ship = self.ship if self.ship_pilot is None else self.ship_pilot
             self.controllers = [c for c in (self.gait_drive, self.pilot, ship, winch) if c is not None]
-            if self.tethered:  # (alone, a vehicle starts as placed: there are no contacts to load)
-                start.preroll(self, settle)
+            if self.tethered and not empty:  # (alone, or on an empty drum, a vehicle starts as placed: there
+                start.preroll(self, settle)   # are no contacts to load)
         except BaseException:
             self.sim.close()  # a run that cannot start leaves nothing registered
             raise
@@ -241,6 +257,47 @@ class ScenarioRun:
         self.sim.close()
 
 
+class TangleMonitor:
+    """The tangle monitor's thresholds (``tangle`` in the scenario) checked at each recorded
+    sample: an event when the cable comes within ``clearance_m`` of a vehicle, or within
+    ``self_clearance_m`` of itself or crosses itself in plan view (logged once each time it goes
+    in, with the time and the place); with ``stop``, the first event ends the run."""
+
+    def __init__(self, cfg):
+        self.cfg = cfg
+        self.events = []
+        self.stopped = ""
+        self._inside = {"vehicle": False, "self": False}
+
+    def check(self, run) -> bool:
+        """Check the state just recorded (``run.named.last_tangle``); True to stop the run."""
+        t = run.named.last_tangle
+        if t is None:
+            return False
+        now = {"vehicle": self.cfg.clearance_m > 0 and t["clearance"] < self.cfg.clearance_m,
+               "self": self.cfg.self_clearance_m > 0 and (t["self_clearance"] < self.cfg.self_clearance_m
+                                                          or t["plan_crossings"] > 0)}
+        new = False
+        for kind, inside in now.items():
+            if inside and not self._inside[kind]:
+                key, limit = ("clearance", self.cfg.clearance_m) if kind == "vehicle" else \
+                    ("self_clearance", self.cfg.self_clearance_m)
+                where = "a vehicle" if kind == "vehicle" else "itself"
+                self.events.append({"time_s": float(run.sim.time), "kind": kind, "clearance_m": float(t[key]),
+                                    "place_m": [float(v) for v in t[f"{key}_at"]],
+                                    "plan_crossings": int(t["plan_crossings"]),
+                                    "what": f"the cable within {t[key]:.2f} m of {where} (threshold {limit:g} m)"
+                                    + (f", {t['plan_crossings']} crossing(s) in plan view"
+                                       if kind == "self" and t["plan_crossings"] else "")})
+                new = True
+            self._inside[kind] = inside
+        if new and self.cfg.stop and not self.stopped:
+            e = self.events[-1]
+            self.stopped = f"tangle.stop: {e['what']} at t = {e['time_s']:.2f} s"
+            return True
+        return False
+
+
 def run(sc: Scenario, progress=None, keep_nodes: bool = True, video=None, on_start=None, on_end=None):
     """Simulate ``sc``; returns (rows (n, len(RECORD_FIELDS)), history, info). ``history`` has
     ``nodes`` (n, e+1, 3) m, ``tension`` (n, e) N and ``element_length`` (n, e) m for every one
@@ -264,18 +321,26 @@ def run(sc: Scenario, progress=None, keep_nodes: bool = True, video=None, on_sta
         rec = video(runner) if video is not None else None
         rows.append(runner.record())
         hist.append(runner.element_record())
+        monitor = TangleMonitor(sc.tangle) if runner.tethered else None
+        if monitor is not None:
+            monitor.check(runner)
         if rec is not None and rec.due(runner.sim.time):
             rec.capture()
         for k in range(1, n_steps + 1):
             runner.step()
+            stop = False
             if k % every == 0:
                 rows.append(runner.record())
                 if keep_nodes:
                     hist.append(runner.element_record())
+                stop = monitor is not None and monitor.check(runner)
             if rec is not None and rec.due(runner.sim.time):
                 rec.capture()
-            if progress and (k % every == 0 or k == n_steps):
+            if progress and (k % every == 0 or k == n_steps or stop):
                 progress(k, n_steps)
+            if stop:
+                n_steps = k
+                break
         wall = time.perf_counter() - t0
         rows = np.array(rows)
         if not np.all(np.isfinite(rows)):
@@ -290,9 +355,13 @@ def run(sc: Scenario, progress=None, keep_nodes: bool = True, video=None, on_sta
         raise
     finally:
         runner.close()
-    info = {"initial_state": runner.initial_note, "tethered": runner.tethered, "wall_time_s": wall,
-            "simulated_s": n_steps * dt,
+    info = {"initial_state": runner.initial_note, "tethered": runner.tethered, "vehicle": bool(runner.named.hulls),
+            "wall_time_s": wall, "simulated_s": n_steps * dt,
             "realtime_factor": n_steps * dt / wall if wall > 0 else math.inf, "steps": n_steps}
+    if monitor is not None:
+        info["tangle_events"] = monitor.events
+        if monitor.stopped:
+            info["stopped"] = monitor.stopped
     if rec is not None:
         info["video"] = {"file": str(rec.path), "frames": rec.frames, "fps": rec.s.fps, "camera": rec.s.camera,
                          "tension_scale_N": rec.scale}

@@ -366,6 +366,10 @@ class Winch(Section):
     band: tuple = param((0.0, 1e9), 0.0, INF, "N", "tension: keep the ship-end tension inside (low, high)",
                         kind="vec2")
     drum_damping: float = param(_Winch.drum_damping, 1e-3, 1e9, "N s/m", "free: tension per unit payout rate")
+    start_empty: bool = param(False, doc="true: nothing is deployed at the start (a vehicle pulls its cable off "
+                              "the drum from zero length, as from a free drum): the vehicle's tow point starts at "
+                              "the fairlead, and tether.length / tether.segments is only the nominal element length "
+                              "of the cable paid out")
 
     def _check(self):
         if self.band[0] >= self.band[1]:
@@ -400,6 +404,12 @@ class Robot(Section):
                                          "between them (positive nose down, as recorded), flown instead of the "
                                          "depth setpoints", kind="rows2", optional=True)
 
+    path: tuple | None = param(None, -1e6, 1e6, "s, m/s, deg, deg", "vehicle: a prescribed motion instead of the "
+                               "autopilot, as a vehicle 'moving at equilibrium conditions' (its thrust making up "
+                               "whatever the cable and the water do): rows of [time, speed through the water along "
+                               "the body's x axis, heading, pitch (positive nose down)], linear between them; the "
+                               "vehicle's origin moves from robot.position at that speed along its nose, carried by "
+                               "the current besides, and the cable's pull on it is the output", kind="rows4", optional=True)
     waypoints: tuple | None = param(None, -1e6, 1e6, "m, m, m, m/s", "vehicle: instead of setpoints, a route of "
                                     "[x, y, depth, speed] rows flown by line-of-sight guidance from the start; the "
                                     "vehicle holds station at the last one", kind="rows4", optional=True)
@@ -441,6 +451,20 @@ class Robot(Section):
                     self._bad("pitch_schedule", "the times (first column, s) must start at 0 and increase")
                 if any(abs(s[1]) >= 90.0 for s in self.pitch_schedule):
                     self._bad("pitch_schedule", "pitch angles must be within (-90, 90) deg")
+            if self.path is not None:
+                times = [s[0] for s in self.path]
+                if times[0] != 0.0 or any(b <= a for a, b in zip(times, times[1:])):
+                    self._bad("path", "the times (first column, s) must start at 0 and increase")
+                if any(not 0.0 <= s[1] <= 20.0 for s in self.path):
+                    self._bad("path", "speeds (second column) must be in [0, 20] m/s")
+                if any(abs(s[3]) >= 90.0 for s in self.path):
+                    self._bad("path", "pitch angles (last column) must be within (-90, 90) deg")
+                if self.path[0][2] != self.heading_deg or self.path[0][3] != 0.0:
+                    self._bad("path", f"the first row starts the vehicle as placed: heading robot.heading_deg "
+                              f"({self.heading_deg:g} deg) and pitch 0")
+                if self.waypoints is not None or self.pitch_schedule is not None or self.manoeuvre != "none":
+                    self._bad("path", "a prescribed path replaces the autopilot: give no waypoints, pitch_schedule "
+                              "or manoeuvre with it")
             if self.waypoints is not None and any(w[2] < 0.0 or w[3] < 0.0 for w in self.waypoints):
                 self._bad("waypoints", "depths (third column) and speeds (fourth) must be >= 0")
             from .vehicles import load_vehicle
@@ -486,6 +510,17 @@ measured 390-2900 us, the model within about 30 %); it only has to tell minutes 
 
 
 @dataclass(frozen=True)
+class Tangle(Section):
+    PATH = "tangle"
+    clearance_m: float = param(0.0, 0.0, 1e4, "m", "log an event when the cable comes closer than this to a vehicle "
+                               "(cable_clearance in timeseries.csv; 0: no threshold)")
+    self_clearance_m: float = param(0.0, 0.0, 1e4, "m", "log an event when the cable comes closer than this to "
+                                    "itself, or crosses itself in plan view (cable_self_clearance, "
+                                    "cable_plan_crossings; 0: no threshold)")
+    stop: bool = param(False, doc="true: a logged event ends the run there (its results are written up to then)")
+
+
+@dataclass(frozen=True)
 class Scenario(Section):
     """A whole run: ``Scenario()`` is the built-in defaults; see ``load_scenario``."""
 
@@ -496,6 +531,7 @@ class Scenario(Section):
     ship: Ship = section(Ship)
     winch: Winch = section(Winch)
     robot: Robot = section(Robot)
+    tangle: Tangle = section(Tangle)
 
     def __post_init__(self):
         super().__post_init__()
@@ -532,6 +568,16 @@ class Scenario(Section):
             bad("tether.length", L, f"must be in [winch.min_length, winch.max_length] = [{wi.min_length:g}, {hi:g}] m")
         if wi.min_length >= hi:
             bad("winch.min_length", wi.min_length, f"must be below winch.max_length ({hi:g} m)")
+        if wi.start_empty:
+            if r.type != "vehicle" or not self.tether.attached:
+                bad("winch.start_empty", "true", f"is for a tethered vehicle (robot.type = {r.type!r})")
+            if wi.mode == "fixed":
+                bad("winch.start_empty", "true", "needs a winch that pays out (winch.mode = \"free\", \"constant\", "
+                    "\"tension\", \"follow\" or \"external\"), not a fixed one")
+            if wi.min_length > 0.0:
+                bad("winch.min_length", wi.min_length, "must be 0 with winch.start_empty = true")
+            if self.ship.vessel:
+                bad("winch.start_empty", "true", "is not supported yet with a vessel carrying the winch (ship.vessel)")
         est = self.estimate(max_length=hi)
         s = self.simulation
         if est["wall_hours"] > s.max_wall_hours:

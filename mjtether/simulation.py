@@ -711,6 +711,16 @@ class BoundTether:
         k = self.first
         return self._K[k:] * self._rest[k:]
 
+    def drum_element(self) -> tuple[float, float]:
+        """The element at the drum: (its axial stiffness in the dynamics, N/m: EA / rest length,
+        or less where the time step cannot resolve it; the rate its stretched length grows at,
+        m/s, from its nodes' velocities). A free drum pays out against them (``winch``)."""
+        k = self.first
+        x, v = self._x(k, k + 2), self._v(k, k + 2)
+        e = x[1] - x[0]
+        L = math.sqrt(float(e @ e))
+        return float(self._K[k]), (float((v[1] - v[0]) @ e) / L if L > 0.0 else 0.0)
+
     @property
     def deployed_length(self) -> float:
         """Unstretched deployed length (m)."""

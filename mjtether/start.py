@@ -14,6 +14,7 @@ import mujoco
 import numpy as np
 
 from . import water as wm
+from .config import ConfigError
 from .controllers import CONTROL_HZ
 from .quasistatic import initial_state, steady_state
 from .scene import Scene
@@ -232,6 +233,18 @@ def fallback_nodes(scene: Scene, top, robot) -> np.ndarray:
     s = np.r_[0.0, np.cumsum(seg)]
     u = arc_lengths(scene, L) * (s[-1] / L)
     return np.c_[[np.interp(u, s, pts[:, k]) for k in range(3)]].T
+
+
+def check_at_fairlead(top, tow_point, position, tol: float = 0.01) -> None:
+    """With nothing deployed (``winch.start_empty``) the vehicle's tow point must start at the
+    fairlead ``top`` (m, world), within ``tol`` (m); else a ConfigError that gives the
+    ``robot.position`` that puts it there."""
+    gap = np.asarray(top, dtype=float) - np.asarray(tow_point, dtype=float)
+    if float(np.linalg.norm(gap)) > tol:
+        fix = [round(float(v), 4) for v in np.asarray(position, dtype=float) + gap]
+        raise ConfigError(f"robot.position = {list(position)}: with winch.start_empty = true the vehicle's tow point "
+                          f"must start at the fairlead {[round(float(v), 4) for v in top]} (it is "
+                          f"{float(np.linalg.norm(gap)):.3g} m away): robot.position = {fix}", "robot.position")
 
 
 def preroll(run, settle: bool) -> None:

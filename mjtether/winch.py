@@ -21,8 +21,12 @@ deployed length integrates it and stays within [min_length, max_length]. Modes:
   at its edge;
 * ``"external"``: the rate last given to ``command`` (e.g. by a Gymnasium agent);
 * ``"free"``: a free drum paying out at (nearly) zero tension (the drum-end boundary condition
-  T = 0 of 001_b2e5865470dbf5d1.txt): payout at tension / ``drum_damping`` (N s/m), limited to
-  ``max_rate``; a cable that slackens is not reeled back.
+  T = 0 of a cable paid out from a drum): payout at tension / ``drum_damping`` (N s/m), limited
+  to ``max_rate``; a cable that slackens is not reeled back. Given the drum element's stiffness
+  K (N/m) and the rate its length grows at (``BoundTether.drum_element``), the tension is taken
+  at the end of the step (backward Euler: rate = (T + K l' dt) / (c + K dt), which is T / c in a
+  steady payout): with the light drum of a fibre (c of order 1 N s/m) and a short, stiff
+  element at the drum, the explicit law T / c overshoots every step and the drum chatters.
 
 Every rate is limited to |rate| <= max_rate, and changes at most at ``max_accel`` (m/s^2): a
 real drum has inertia and a drive of finite power, and a step in payout rate jerks the cable at
@@ -98,8 +102,9 @@ class Winch:
         """Set the payout rate (m/s) of the ``"external"`` mode; clipped to +-max_rate."""
         self._command = _clip(_checks.finite("winch command", rate), -self.max_rate, self.max_rate)
 
-    def payout_rate(self, t: float, tension: float, robot_speed: float) -> float:
-        """Payout rate (m/s) for the current state, before the length limits."""
+    def payout_rate(self, t: float, tension: float, robot_speed: float, drum=None, dt: float = 0.0) -> float:
+        """Payout rate (m/s) for the current state, before the length limits; ``drum``: the
+        drum element's (stiffness N/m, length rate m/s), for the free drum's implicit law."""
         m = self.mode
         if m == "fixed":
             r = 0.0
@@ -110,7 +115,11 @@ class Winch:
         elif m == "external":
             r = self._command
         elif m == "free":
-            r = max(tension, 0.0) / self.drum_damping
+            if drum is None:
+                r = max(tension, 0.0) / self.drum_damping
+            else:
+                K, grow = drum
+                r = max(tension + K * grow * dt, 0.0) / (self.drum_damping + K * dt)
         else:  # tension band: PI on the (filtered) tension, see the module docstring
             r = self.max_rate * self._band_error(tension) + self._integral
         return _clip(r, -self.max_rate, self.max_rate)
@@ -122,11 +131,13 @@ class Winch:
             return min(tension - lo, 0.0) / max(lo, 1.0)
         return (tension - 0.5 * (lo + hi)) / (0.5 * (hi - lo))
 
-    def advance(self, dt: float, t: float, tension: float, robot_speed: float = 0.0) -> float:
+    def advance(self, dt: float, t: float, tension: float, robot_speed: float = 0.0, drum=None) -> float:
         """Integrate the deployed length over ``dt`` (s); returns the new length (m).
         ``tension``: the ship-end tension (N); ``robot_speed``: the robot's velocity along the
-        cable, away from the ship (m/s; ``"follow"`` mode). A step that is not a positive
-        number, or a non-finite tension or speed, is a ValueError: it would make the length NaN."""
+        cable, away from the ship (m/s; ``"follow"`` mode); ``drum``: the drum element's
+        (stiffness N/m, length rate m/s) (``"free"`` mode; None: the explicit law). A step that
+        is not a positive number, or a non-finite tension or speed, is a ValueError: it would
+        make the length NaN."""
         _checks.positive("winch.advance dt", dt, "s")
         tension = _checks.finite("winch.advance tension", tension)
         robot_speed = _checks.finite("winch.advance robot_speed", robot_speed)
@@ -140,7 +151,7 @@ class Winch:
         elif self.mode == "follow":
             self._progress = robot_speed if self._progress is None else \
                 self._progress + min(dt / FOLLOW_FILTER_S, 1.0) * (robot_speed - self._progress)
-        want = self.payout_rate(t, tension, robot_speed)
+        want = self.payout_rate(t, tension, robot_speed, drum, dt)
         # brake in time for the length limits (on a curve a little gentler than max_accel, so the
         # acceleration-limited rate can follow it to zero), then limit the acceleration
         a_brake = 0.8 * self.max_accel

@@ -22,6 +22,12 @@ and say which here:
   every other run unchanged bit for bit.
 * the record gained three columns at its end (``cable_moment_body_x/y/z``); the 29 before them
   unchanged bit for bit in every run.
+* the Otter, Hong et al. and fibre-paying AUV examples added (``otter_*``, ``hong2020_platform``,
+  ``auv_fibre_*``); the record gained the tangle monitor's four columns at its end
+  (``cable_clearance``, ``cable_self_clearance``, ``cable_plan_crossings``, ``cable_wrap``); the
+  free drum pays out by a backward-Euler law: the 32 columns before them, the nodes and tensions
+  of every earlier run unchanged bit for bit (the free-drum example's first 2 s included: its
+  payout is limited by the drum's acceleration there).
 
     python tests/golden.py   # rewrites tests/data/golden_runs.npz
 """

@@ -147,7 +147,9 @@ def test_run_writes_a_complete_results_folder(tmp_path):
     names = {p.name for p in out.iterdir()}
     assert {"timeseries.csv", "tether.npz", "summary.json", "tension.png", "profile.png", "track.png"} <= names
     header = (out / "timeseries.csv").read_text().splitlines()[0].split(",")
-    assert header == results.column_names()
+    # a walker run: the tangle monitor's columns about a vehicle are left out, the cable's own kept
+    assert header == results.column_names(vehicle=False)
+    assert "cable_self_clearance_m" in header and "cable_clearance_m" not in header
     data = np.genfromtxt(out / "timeseries.csv", delimiter=",", skip_header=1)
     assert data.shape == (5, len(header)) and np.all(np.isfinite(data))
     npz = np.load(out / "tether.npz")

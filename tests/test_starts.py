@@ -48,15 +48,20 @@ def test_every_example_starts_from_a_steady_state_and_upright(path):
     """The issue's requirement, for every file in examples/: a quasi-static start, and a walker
     within 2 deg of upright (relative to the seabed, which may slope) and of its commanded
     heading at every sample (0.5 s) of the first 5 s. (Measured: at most 0.2 deg and 0.3 deg.)
-    A vehicle without a tether has no cable to start: it starts level and at rest."""
+    A vehicle without a tether has no cable to start: it starts level and at rest; nor has one
+    whose drum starts empty (``winch.start_empty``)."""
     sc = load_scenario(path)
     if sc.robot.type != "walker":
         run = ScenarioRun(sc)
         note = run.initial_note
         moving = float(np.abs(run.sim.data.qvel).max())
+        deployed = run.named.deployed_length if run.tethered else 0.0
         run.close()
         if not sc.tether.attached:
             assert note.startswith("no tether") and moving == 0.0
+            return
+        if sc.winch.start_empty:  # nothing deployed: no cable to start, the vehicle at the fairlead
+            assert note.startswith("nothing deployed") and deployed == 0.0
             return
         assert note.startswith("quasi-static steady state")
         return

@@ -56,6 +56,9 @@ def test_pid_baseline_holds_station_against_the_current_and_the_umbilical(seed):
         heading_err = e._target_error()[3]
         assert last["target_distance"] <= 0.1 and abs(math.degrees(heading_err)) <= 2.0
         assert last["is_success"]
+        # the tangle monitor in the env: the umbilical leaves the ROV's back and hangs away from
+        # it, so it is clear of the hull and of itself, and crosses nowhere
+        assert all(i["cable_clearance"] > 0.0 and i["cable_plan_crossings"] == 0 for i in infos)
         idle, _, _ = _episode(env, seed, lambda env: np.zeros(8, dtype=np.float32))
         assert total > 0.2 * idle
     finally:

@@ -1,0 +1,106 @@
+"""The tangle monitor's geometry (pure NumPy, no MuJoCo): how close a cable comes to a vehicle
+and to itself, how often it crosses itself in plan view, and how far it wraps round a vehicle.
+
+The cable is its polyline of nodes (m, world, (n+1, 3)); a vehicle is a capsule (its hull: the
+segment between two points and a radius) and a set of points (its thrusters, fins, propeller).
+Units SI; angles in radians.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+
+def segment_distance(p0, p1, q0, q1):
+    """Shortest distances between segments p0-p1 and q0-q1 (arrays broadcast over leading
+    axes, last axis 3), and the closest points on each: (distance, point on p, point on q)."""
+    p0, p1, q0, q1 = (np.asarray(a, dtype=float) for a in (p0, p1, q0, q1))
+    d1, d2, r = p1 - p0, q1 - q0, p0 - q0
+    a = np.einsum("...i,...i", d1, d1)
+    e = np.einsum("...i,...i", d2, d2)
+    f = np.einsum("...i,...i", d2, r)
+    c = np.einsum("...i,...i", d1, r)
+    b = np.einsum("...i,...i", d1, d2)
+    eps = 1e-18
+    denom = a * e - b * b
+    # s on p (clamped), then t on q for that s, then s again for the clamped t (Ericson 2005, 5.1.9)
+    s = np.where(denom > eps * np.maximum(a * e, eps), np.clip((b * f - c * e) / np.where(denom > 0, denom, 1.0),
+                                                               0.0, 1.0), 0.0)
+    s = np.where(a <= eps, 0.0, s)
+    t = np.where(e <= eps, 0.0, (b * s + f) / np.where(e > eps, e, 1.0))
+    t_c = np.clip(t, 0.0, 1.0)
+    s = np.where(a <= eps, 0.0, np.where(t != t_c, np.clip((b * t_c - c) / np.where(a > eps, a, 1.0), 0.0, 1.0), s))
+    t = t_c
+    cp = p0 + s[..., None] * d1
+    cq = q0 + t[..., None] * d2
+    return np.linalg.norm(cp - cq, axis=-1), cp, cq
+
+
+def arc_lengths(nodes: np.ndarray) -> np.ndarray:
+    """Arc length (m) at each node from the first."""
+    return np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(nodes, axis=0), axis=1))]
+
+
+def vehicle_clearance(nodes: np.ndarray, hull_a, hull_b, radius: float, points=(), exclude: float = 0.0,
+                      from_end: bool = True) -> tuple[float, np.ndarray]:
+    """Smallest clearance (m) between the cable ``nodes`` and a vehicle: its hull, the capsule
+    ``hull_a``-``hull_b`` of ``radius``, and its ``points`` (thrusters, fins, propeller), leaving
+    out the cable within ``exclude`` m of arc from the end it is tied to (the last node with
+    ``from_end``, else the first). Returns (clearance, the cable's closest point); clearance is
+    negative where the cable passes through the hull, +inf with no cable left to check."""
+    s = arc_lengths(nodes)
+    s = s[-1] - s if from_end else s
+    keep = np.minimum(s[:-1], s[1:]) >= exclude  # elements wholly beyond the exclusion
+    if not keep.any():
+        return math.inf, nodes[-1 if from_end else 0].copy()
+    p0, p1 = nodes[:-1][keep], nodes[1:][keep]
+    d, cp, _ = segment_distance(p0, p1, np.asarray(hull_a, dtype=float), np.asarray(hull_b, dtype=float))
+    d = d - radius
+    k = int(np.argmin(d))
+    best, where = float(d[k]), cp[k]
+    pts = np.asarray(points, dtype=float).reshape(-1, 3)
+    if len(pts):
+        dp, cpp, _ = segment_distance(p0[:, None, :], p1[:, None, :], pts[None, :, :], pts[None, :, :])
+        i, j = np.unravel_index(int(np.argmin(dp)), dp.shape)
+        if dp[i, j] < best:
+            best, where = float(dp[i, j]), cpp[i, j]
+    return best, np.asarray(where, dtype=float).copy()
+
+
+def self_clearance(nodes: np.ndarray, min_arc: float) -> tuple[float, np.ndarray, int]:
+    """The cable's clearance from itself: the smallest distance (m) between two of its elements
+    with at least ``min_arc`` m of cable between them (nearer ones are neighbours, not a loop),
+    the place (midway between the closest points) and the number of such pairs that cross in
+    plan view (their x-y projections intersect). +inf with no such pair."""
+    n = len(nodes) - 1
+    if n < 2:
+        return math.inf, nodes[0].copy(), 0
+    s = arc_lengths(nodes)
+    i, j = np.triu_indices(n, k=2)
+    far = (s[j] - s[i + 1]) >= min_arc
+    i, j = i[far], j[far]
+    if len(i) == 0:
+        return math.inf, nodes[0].copy(), 0
+    p0, p1, q0, q1 = nodes[i], nodes[i + 1], nodes[j], nodes[j + 1]
+    d, cp, cq = segment_distance(p0, p1, q0, q1)
+    k = int(np.argmin(d))
+    flat = np.array([1.0, 1.0, 0.0])
+    dxy, _, _ = segment_distance(p0 * flat, p1 * flat, q0 * flat, q1 * flat)
+    return float(d[k]), 0.5 * (cp[k] + cq[k]), int(np.count_nonzero(dxy <= 1e-9))
+
+
+def wrap_angle(nodes: np.ndarray, centre, radius: float) -> float:
+    """How far the cable winds round a vehicle in plan view (rad, >= 0): the angle its nodes
+    within ``radius`` (m, horizontally) of ``centre`` sweep about it, summed over consecutive
+    nodes that are both that close (one full turn of cable round the hull: 2 pi)."""
+    c = np.asarray(centre, dtype=float)
+    rel = nodes[:, :2] - c[:2]
+    near = np.hypot(rel[:, 0], rel[:, 1]) <= radius
+    ang = np.arctan2(rel[:, 1], rel[:, 0])
+    both = near[:-1] & near[1:]
+    if not both.any():
+        return 0.0
+    step = (np.diff(ang) + math.pi) % (2 * math.pi) - math.pi
+    return float(abs(step[both].sum()))
