@@ -59,7 +59,8 @@ RECORD_FIELDS = [
      "out the cable within a hull length of its own tow point (negative: through the hull; that hull length when "
      "no cable is left to check); only in runs with a vehicle"),
     ("cable_self_clearance", "m", "tangle monitor: the cable's smallest distance from itself, between elements "
-     "with at least 5 nominal element lengths of cable between them (that length when the cable is too short)"),
+     "with at least 5 nominal element lengths of cable between them, up to 5 nominal element lengths (or "
+     "tangle.self_clearance_m if larger): farther is recorded as that"),
     ("cable_plan_crossings", "", "tangle monitor: how many pairs of such elements cross in plan view"),
     ("cable_wrap", "deg", "tangle monitor: the angle the cable sweeps round the vehicle in plan view within two "
      "hull lengths (or two elements) of it (360: one full turn); only in runs with a vehicle"),
@@ -384,7 +385,8 @@ class Readouts:
         world) from the nearest vehicle, ``self_clearance`` (m) and ``self_clearance_at``,
         ``plan_crossings`` and ``wrap`` (rad). Where there is nothing to check (all the cable
         within the monitor's blind arc: a hull length from a tow point, 5 nominal elements for
-        the cable itself), the clearance is +inf and its place the ship's fairlead."""
+        the cable itself; or nothing within the self-clearance's reach), the clearance is +inf
+        and its place the ship's fairlead."""
         d = self._sim.data
         x = self._bt.nodes(d) if x is None else x
         out = {"clearance": math.inf, "clearance_at": x[0].copy(), "wrap": 0.0}
@@ -394,18 +396,21 @@ class Readouts:
             if c < out["clearance"]:
                 out["clearance"], out["clearance_at"] = c, where
             out["wrap"] = max(out["wrap"], tangle.wrap_angle(x, p, max(2.0 * exclude, 2.0 * self._bt.l0)))
-        c, where, crossings = tangle.self_clearance(x, 5.0 * self._bt.l0)
+        blind = 5.0 * self._bt.l0
+        c, where, crossings = tangle.self_clearance(x, blind, max(blind, self._run.sc.tangle.self_clearance_m))
         out["self_clearance"], out["self_clearance_at"], out["plan_crossings"] = c, where, crossings
         self.last_tangle = out
         return out
 
     def tangle_record(self, x: np.ndarray | None = None) -> list:
         """The record's tangle columns (``TANGLE_FIELDS``): where the monitor has nothing to
-        check, its blind arc (the shortest hull length; 5 nominal elements) in place of +inf."""
+        check, its blind arc (the shortest hull length) in place of +inf; the cable's clearance
+        from itself up to its reach (5 nominal elements, or the scenario's threshold if larger)."""
         t = self.tangle(x)
         blind = min((h[5] for h in self.hulls), default=0.0)
         c = t["clearance"] if math.isfinite(t["clearance"]) else blind
-        sc = t["self_clearance"] if math.isfinite(t["self_clearance"]) else 5.0 * self._bt.l0
+        reach = max(5.0 * self._bt.l0, self._run.sc.tangle.self_clearance_m)
+        sc = t["self_clearance"] if math.isfinite(t["self_clearance"]) else reach
         return [c, sc, float(t["plan_crossings"]), math.degrees(t["wrap"])]
 
     # ------------------------------------------------------------------ the record

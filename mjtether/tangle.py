@@ -56,11 +56,20 @@ def vehicle_clearance(nodes: np.ndarray, hull_a, hull_b, radius: float, points=(
     if not keep.any():
         return math.inf, nodes[-1 if from_end else 0].copy()
     p0, p1 = nodes[:-1][keep], nodes[1:][keep]
-    d, cp, _ = segment_distance(p0, p1, np.asarray(hull_a, dtype=float), np.asarray(hull_b, dtype=float))
+    a, b = np.asarray(hull_a, dtype=float), np.asarray(hull_b, dtype=float)
+    # only elements that can be the nearest: midpoints within the nearest midpoint's distance
+    # plus an element and the vehicle's extent (its points included)
+    pts = np.asarray(points, dtype=float).reshape(-1, 3)
+    centre = 0.5 * (a + b)
+    extent = max(0.5 * float(np.linalg.norm(b - a)) + radius,
+                 float(np.max(np.linalg.norm(pts - centre, axis=1))) if len(pts) else 0.0)
+    mid = np.linalg.norm(0.5 * (p0 + p1) - centre, axis=1)
+    near = mid <= mid.min() + float(np.max(np.linalg.norm(p1 - p0, axis=1))) + 2.0 * extent
+    p0, p1 = p0[near], p1[near]
+    d, cp, _ = segment_distance(p0, p1, a, b)
     d = d - radius
     k = int(np.argmin(d))
     best, where = float(d[k]), cp[k]
-    pts = np.asarray(points, dtype=float).reshape(-1, 3)
     if len(pts):
         dp, cpp, _ = segment_distance(p0[:, None, :], p1[:, None, :], pts[None, :, :], pts[None, :, :])
         i, j = np.unravel_index(int(np.argmin(dp)), dp.shape)
@@ -69,26 +78,48 @@ def vehicle_clearance(nodes: np.ndarray, hull_a, hull_b, radius: float, points=(
     return best, np.asarray(where, dtype=float).copy()
 
 
-def self_clearance(nodes: np.ndarray, min_arc: float) -> tuple[float, np.ndarray, int]:
+def self_clearance(nodes: np.ndarray, min_arc: float, reach: float | None = None) -> tuple[float, np.ndarray, int]:
     """The cable's clearance from itself: the smallest distance (m) between two of its elements
     with at least ``min_arc`` m of cable between them (nearer ones are neighbours, not a loop),
-    the place (midway between the closest points) and the number of such pairs that cross in
-    plan view (their x-y projections intersect). +inf with no such pair."""
+    looked for up to ``reach`` m (default ``min_arc``), the place (midway between the closest
+    points) and the number of such pairs that cross in plan view (their x-y projections
+    intersect). +inf (and the first node) when no such pair is within ``reach``. Candidate pairs
+    come from a k-d tree of the elements' midpoints (scipy), so a long cable costs about as much
+    per element as a short one."""
+    from scipy.spatial import cKDTree
+
+    reach = min_arc if reach is None else reach
     n = len(nodes) - 1
     if n < 2:
         return math.inf, nodes[0].copy(), 0
     s = arc_lengths(nodes)
-    i, j = np.triu_indices(n, k=2)
-    far = (s[j] - s[i + 1]) >= min_arc
-    i, j = i[far], j[far]
-    if len(i) == 0:
-        return math.inf, nodes[0].copy(), 0
-    p0, p1, q0, q1 = nodes[i], nodes[i + 1], nodes[j], nodes[j + 1]
-    d, cp, cq = segment_distance(p0, p1, q0, q1)
-    k = int(np.argmin(d))
-    flat = np.array([1.0, 1.0, 0.0])
-    dxy, _, _ = segment_distance(p0 * flat, p1 * flat, q0 * flat, q1 * flat)
-    return float(d[k]), 0.5 * (cp[k] + cq[k]), int(np.count_nonzero(dxy <= 1e-9))
+    mids = 0.5 * (nodes[:-1] + nodes[1:])
+    span = float(np.max(np.diff(s)))  # the longest element: two can touch with midpoints this far apart
+
+    def far_pairs(points, r):
+        ij = cKDTree(points).query_pairs(r, output_type="ndarray")
+        if len(ij) == 0:
+            return ij
+        i, j = ij.min(axis=1), ij.max(axis=1)
+        keep = (s[j] - s[i + 1]) >= min_arc
+        return np.c_[i[keep], j[keep]]
+
+    best, at = math.inf, nodes[0].copy()
+    ij = far_pairs(mids, reach + span)
+    if len(ij):
+        i, j = ij[:, 0], ij[:, 1]
+        d, cp, cq = segment_distance(nodes[i], nodes[i + 1], nodes[j], nodes[j + 1])
+        k = int(np.argmin(d))
+        if d[k] <= reach:
+            best, at = float(d[k]), 0.5 * (cp[k] + cq[k])
+    crossings = 0
+    ij = far_pairs(mids[:, :2], span)
+    if len(ij):
+        i, j = ij[:, 0], ij[:, 1]
+        flat = np.array([1.0, 1.0, 0.0])
+        dxy, _, _ = segment_distance(nodes[i] * flat, nodes[i + 1] * flat, nodes[j] * flat, nodes[j + 1] * flat)
+        crossings = int(np.count_nonzero(dxy <= 1e-9))
+    return best, at, crossings
 
 
 def wrap_angle(nodes: np.ndarray, centre, radius: float) -> float:

@@ -34,6 +34,20 @@ def test_segment_distance_is_the_brute_force_minimum():
         assert np.linalg.norm(cp - cq) == pytest.approx(d, abs=1e-12)
 
 
+def test_vehicle_clearance_is_the_nearest_of_every_element():
+    """Random cables round a random capsule with points: the clearance is the minimum over every
+    element of its distance to the capsule's axis less its radius, and to each point (the
+    monitor looks only at the elements that can be nearest: it must find that minimum)."""
+    for _ in range(200):
+        n = int(RNG.integers(5, 80))
+        nodes = np.cumsum(RNG.normal(size=(n + 1, 3)), axis=0)
+        a, b, pts = RNG.normal(size=3) * 3, RNG.normal(size=3) * 3, RNG.normal(size=(4, 3)) * 2
+        c, _ = tangle.vehicle_clearance(nodes, a, b, 0.2, pts, 0.0)
+        d, _, _ = tangle.segment_distance(nodes[:-1], nodes[1:], a, b)
+        dp, _, _ = tangle.segment_distance(nodes[:-1][:, None], nodes[1:][:, None], pts[None], pts[None])
+        assert c == pytest.approx(min(d.min() - 0.2, dp.min()), abs=1e-12)
+
+
 def _hairpin(gap: float, leg: float = 50.0) -> np.ndarray:
     a = np.linspace(0.0, leg, 51)
     turn = np.linspace(-math.pi / 2, math.pi / 2, 31)[1:-1]
@@ -43,11 +57,12 @@ def _hairpin(gap: float, leg: float = 50.0) -> np.ndarray:
 
 
 def test_self_clearance_of_a_hairpin_and_of_a_crossing():
-    """A hairpin with legs 3 m apart: its clearance from itself is 3 m (pairs at least 10 m of
-    arc apart), with no crossing; an S whose end passes 2 m under its start crosses itself once in
-    plan view, 2 m apart."""
+    """A hairpin with legs 3 m apart: its clearance from itself is 3 m (pairs with at least 10 m
+    of cable between them), with no crossing, and +inf when looked for only up to 2.5 m; an S
+    whose end passes 2 m under its start crosses itself once in plan view, 2 m apart."""
     c, _, n = tangle.self_clearance(_hairpin(3.0), 10.0)
     assert c == pytest.approx(3.0, abs=1e-9) and n == 0
+    assert tangle.self_clearance(_hairpin(3.0), 10.0, reach=2.5)[0] == math.inf
     s = np.array([[0.0, 0.0, 0.0], [20.0, 0.0, 0.0], [20.0, 20.0, -1.0], [10.0, 20.0, -2.0], [10.0, -10.0, -2.0]])
     c, at, n = tangle.self_clearance(s, 10.0)
     assert n == 1 and c == pytest.approx(2.0, abs=1e-9)
