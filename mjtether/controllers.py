@@ -206,7 +206,8 @@ class PathDrive:
 
     ``rows``: (time s, speed through the water m/s along the body's x axis, heading rad, pitch
     rad, positive nose down), linear between rows and held after the last; the current at the
-    vehicle's depth carries it besides; ``start``: the origin's position at
+    vehicle's depth carries it besides (from the path's second row on; ramped in before it);
+    ``start``: the origin's position at
     t = 0 (m, world); ``body``: the vehicle's ``BoundVehicle`` (its joints: three slides from
     the position it was built at, ``origin0``, and a ball)."""
 
@@ -238,11 +239,18 @@ class PathDrive:
         cp, sp, ch, sh = math.cos(pitch), math.sin(pitch), math.cos(heading), math.sin(heading)
         return np.array([[ch * cp, -sh, ch * sp], [sh * cp, ch, sh * sp], [-sp, 0.0, cp]])
 
+    def carried(self, t: float) -> float:
+        """How much of the current carries the vehicle at t: from 0 at rest at the start to all
+        of it at the path's second row (its start-up), linearly; a vehicle held at the fairlead
+        does not jump to the current's speed, which no drum could follow."""
+        t1 = float(self.rows[1, 0]) if len(self.rows) > 1 else 0.0
+        return 1.0 if t1 <= 0.0 else min(max(t / t1, 0.0), 1.0)
+
     def velocity(self, t: float, current) -> np.ndarray:
         """The origin's velocity (m/s, world) at t: the path's speed along the nose through the
-        water, plus the ``current`` (m/s, world) that carries it."""
+        water, plus the ``current`` (m/s, world) that carries it (``carried``)."""
         U, psi, th, _, _ = self._at(t)
-        return U * self.rotation(psi, th)[:, 0] + current
+        return U * self.rotation(psi, th)[:, 0] + self.carried(t) * current
 
     def update(self, run, t: float, dt: float) -> None:
         current = run.named.current_at(min(float(self._p[2]), 0.0))
@@ -253,7 +261,7 @@ class PathDrive:
         R = self.rotation(psi, th)
         d = run.sim.data
         d.qpos[self._slide] = self._p - self._origin0
-        d.qvel[self._slide] = U * R[:, 0] + current
+        d.qvel[self._slide] = U * R[:, 0] + self.carried(t) * current
         cz, sz, cy, sy = math.cos(0.5 * psi), math.sin(0.5 * psi), math.cos(0.5 * th), math.sin(0.5 * th)
         d.qpos[self._qball:self._qball + 4] = [cz * cy, -sz * sy, cz * sy, sz * cy]  # q_z(psi) q_y(pitch)
         w_world = np.array([0.0, 0.0, dpsi]) + dth * R[:, 1]

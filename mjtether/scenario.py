@@ -409,7 +409,8 @@ class Robot(Section):
                                "whatever the cable and the water do): rows of [time, speed through the water along "
                                "the body's x axis, heading, pitch (positive nose down)], linear between them; the "
                                "vehicle's origin moves from robot.position at that speed along its nose, carried by "
-                               "the current besides, and the cable's pull on it is the output", kind="rows4", optional=True)
+                               "the current besides (ramped in from rest until the second row), and the cable's pull "
+                               "on it is the output", kind="rows4", optional=True)
     waypoints: tuple | None = param(None, -1e6, 1e6, "m, m, m, m/s", "vehicle: instead of setpoints, a route of "
                                     "[x, y, depth, speed] rows flown by line-of-sight guidance from the start; the "
                                     "vehicle holds station at the last one", kind="rows4", optional=True)

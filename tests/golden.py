@@ -28,6 +28,9 @@ and say which here:
   free drum pays out by a backward-Euler law: the 32 columns before them, the nodes and tensions
   of every earlier run unchanged bit for bit (the free-drum example's first 2 s included: its
   payout is limited by the drum's acceleration there).
+* a prescribed path's vehicle is carried by the current from rest, ramped in over the path's
+  first interval: the fibre examples in a current (``auv_fibre_circle*``, ``auv_fibre_spiral``)
+  changed; every other run unchanged bit for bit.
 
     python tests/golden.py   # rewrites tests/data/golden_runs.npz
 """
