@@ -278,10 +278,10 @@ def write_report(path: Path, s: dict, cur: list, man: list, ang: list) -> None:
         "",
         "## The circle and the anti-twining manoeuvre",
         "",
-        f"Without the manoeuvre the vehicle comes within {plain['min_clearance_m']:.2f} m of its fibre (at "
-        f"{plain['min_clearance_time_s']:.0f} s, as it comes back over the drum); with a 30° port turn first, "
-        f"{anti['min_clearance_m']:.2f} m (the paper's claim holds). The paper gives no angle, and the result",
-        "depends on it:",
+        f"Without the manoeuvre the vehicle's smallest clearance from its fibre is {plain['min_clearance_m']:.2f} m "
+        f"(at {plain['min_clearance_time_s']:.0f} s, as it comes back over the drum; below 0: through it); with a "
+        f"30° port turn first, {anti['min_clearance_m']:.2f} m (the paper's claim holds). The paper gives no angle, "
+        "and the result depends on it:",
         "",
         "| port turn (deg) | closest to the vehicle (m) | at (s) |",
         "|---|---|---|",

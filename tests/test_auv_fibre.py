@@ -47,7 +47,7 @@ def test_the_anti_twining_turn_keeps_the_vehicle_off_its_fibre():
     """The paper's claim: circling in a current, the vehicle comes back over its fibre unless it
     first turns to port. Without the turn it runs through the fibre (clearance below 0: the hull
     and the cable do not collide in mjtether); with a 30 deg port turn first it stays more than
-    0.5 m clear (measured: -0.09 m and 1.08 m; docs/auv_fibre_reproduction.md shows that larger
+    0.5 m clear (measured: -0.09 m and 0.72 m; docs/auv_fibre_reproduction.md shows that larger
     turns do not help)."""
     plain, anti = _closest("auv_fibre_circle"), _closest("auv_fibre_circle_antitwining")
     assert plain < 0.0
