@@ -362,7 +362,8 @@ class FrameRenderer:
         if t is not None:  # the tangle monitor's thresholds (scenario [tangle]) crossed: say so, top right
             cfg, warn = self.runner.sc.tangle, []
             if cfg.clearance_m > 0 and t["clearance"] < cfg.clearance_m:
-                warn.append(f"cable within {t['clearance']:.2f} m of the vehicle")
+                warn.append(f"cable within {t['clearance']:.2f} m of the vehicle" if t["clearance"] >= 0.0 else
+                            f"cable through the vehicle ({t['clearance']:.2f} m)")
             if cfg.self_clearance_m > 0 and (t["self_clearance"] < cfg.self_clearance_m or t["plan_crossings"]):
                 warn.append(f"cable within {t['self_clearance']:.2f} m of itself")
             if warn:

@@ -286,7 +286,9 @@ class TangleMonitor:
                 self.events.append({"time_s": float(run.sim.time), "kind": kind, "clearance_m": float(t[key]),
                                     "place_m": [float(v) for v in t[f"{key}_at"]],
                                     "plan_crossings": int(t["plan_crossings"]),
-                                    "what": f"the cable within {t[key]:.2f} m of {where} (threshold {limit:g} m)"
+                                    "what": (f"the cable within {t[key]:.2f} m of {where}" if t[key] >= 0.0 else
+                                             f"the cable through {where} ({t[key]:.2f} m)")
+                                    + f" (threshold {limit:g} m)"
                                     + (f", {t['plan_crossings']} crossing(s) in plan view"
                                        if kind == "self" and t["plan_crossings"] else "")})
                 new = True
