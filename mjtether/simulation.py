@@ -843,7 +843,7 @@ class Simulation:
         self._bad_acc0 = 0
         self._t_step = 0.0  # s, the time at the end of the step being taken
         self._worst = []  # what was furthest out after the last step (see check)
-        dispatch.register(self.data, self._passive)
+        dispatch.register(self.data, self._passive, self.model)
         try:
             mujoco.mj_forward(self.model, self.data)
             dispatch.raise_pending(self.data)

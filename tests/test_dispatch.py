@@ -71,3 +71,41 @@ def test_a_provider_failing_on_the_first_state_leaves_nothing_registered(monkeyp
     with pytest.raises(ArithmeticError, match="a provider failed"):
         mt.Simulation(spec, mt.WaterColumn(depth=100.0), bodies=[vm])
     assert mt.dispatch.active_count() == before
+
+
+def _state(sim):
+    import mujoco
+
+    spec = mujoco.mjtState.mjSTATE_FULLPHYSICS
+    s = np.zeros(mujoco.mj_stateSize(sim.model, spec))
+    mujoco.mj_getState(sim.model, sim.data, s, spec)
+    return s
+
+
+def test_a_rollout_of_a_tether_model_is_refused_not_run_in_vacuum():
+    """``mujoco.rollout`` steps its own ``MjData``, which no Simulation owns: its cable would
+    have no drag, weight or buoyancy. On the main thread it fails with the reason; on worker
+    threads (where an exception would abort the process) its states come back NaN with a
+    RuntimeWarning saying why. The simulation itself steps on unharmed, and a model that is not
+    mjtether's rolls out as before."""
+    import mujoco
+    from mujoco import rollout
+
+    plain = mujoco.MjModel.from_xml_string("<mujoco><worldbody><body><freejoint/><geom size='0.1'/></body>"
+                                           "</worldbody></mujoco>")  # (compiled before the simulation)
+    with _make(0.5) as sim:
+        s0 = _state(sim)
+        with pytest.raises(Exception, match="no mjtether Simulation owns"):
+            rollout.rollout(sim.model, mujoco.MjData(sim.model), s0[None], nstep=5)
+        with pytest.warns(RuntimeWarning, match="no mjtether Simulation owns"):
+            with rollout.Rollout(nthread=2) as r:
+                states, _ = r.rollout([sim.model] * 2, [mujoco.MjData(sim.model) for _ in range(2)],
+                                      np.repeat(s0[None], 2, axis=0), nstep=5)
+        assert np.isnan(states[:, -1, 1:]).all(axis=-1).all()
+        sim.step(10)
+        assert np.all(np.isfinite(sim.data.qpos))
+        d = mujoco.MjData(plain)
+        ps = np.zeros(mujoco.mj_stateSize(plain, mujoco.mjtState.mjSTATE_FULLPHYSICS))
+        mujoco.mj_getState(plain, d, ps, mujoco.mjtState.mjSTATE_FULLPHYSICS)
+        out, _ = rollout.rollout(plain, d, ps[None], nstep=5)
+        assert np.all(np.isfinite(out))
