@@ -268,6 +268,24 @@ class PathDrive:
         d.qvel[self._wball] = R.T @ w_world
 
 
+class VesselFollow:
+    """A vessel carrying the winch that follows the robot (``ship.mode = "follow"`` with
+    ``ship.vessel``): its autopilot (``pilot``, a ``VehiclePilot``) holds a station at the
+    robot's tow point plus ``offset`` (m, world x, y) moving with the robot's horizontal velocity,
+    at ``heading`` (rad)."""
+
+    def __init__(self, pilot, offset, heading: float):
+        self.pilot = pilot
+        self.offset = np.asarray(offset, dtype=float)[:2]
+        self.heading = float(heading)
+
+    def update(self, run, t: float, dt: float) -> None:
+        robot = run.named.robot_position
+        self.pilot.station = (float(robot[0] + self.offset[0]), float(robot[1] + self.offset[1]), 0.0, self.heading)
+        self.pilot.station_velocity = run.named.robot_velocity
+        self.pilot.update(run, t, dt)
+
+
 class VehiclePilot:
     """Speed, heading and depth autopilot of a vehicle (gains: ``vehicles.Autopilot``), and the
     allocation of the wrench it asks for to the thrusters.
@@ -297,6 +315,7 @@ class VehiclePilot:
         self._leg = 0  # the route's waypoint being steered to
         self._from = np.asarray(start, dtype=float)[:2].copy()  # where the leg starts (m)
         self.station = None  # (x, y, depth, heading) held once the last waypoint is reached
+        self.station_velocity = np.zeros(2)  # m/s, world x, y: the station's own (a vessel following)
         self.gains = gains
         self.B = thrust_matrix(thrusters)
         self.lo = np.array([-t.max_reverse for t in thrusters])
@@ -428,11 +447,13 @@ class VehiclePilot:
             f = R.T @ np.array([0.0, 0.0, Z])
             M = -g.pitch_kp * pitch - g.pitch_kd * nu[4]
         self.wrench = np.array([X + f[0], f[1], f[2], K, M, N])
-        if self.station is not None:  # hold the last waypoint: a horizontal PD on the position error
+        if self.station is not None:  # hold the station: a horizontal PD on the position error and
+            # on the velocity relative to the station's own (0 for a fixed one)
             ex, ey = self.station[0] - float(p[0]), self.station[1] - float(p[1])
             c, s = math.cos(yaw), math.sin(yaw)
-            self.wrench[0] = f[0] + g.station_kp * (c * ex + s * ey) - g.station_kd * nu[0]
-            self.wrench[1] = f[1] + g.station_kp * (-s * ex + c * ey) - g.station_kd * nu[1]
+            vx, vy = self.station_velocity
+            self.wrench[0] = f[0] + g.station_kp * (c * ex + s * ey) - g.station_kd * (nu[0] - (c * vx + s * vy))
+            self.wrench[1] = f[1] + g.station_kp * (-s * ex + c * ey) - g.station_kd * (nu[1] - (-s * vx + c * vy))
         if self._steered:
             self._allocate(run.sim.data, *eff)
             if self.manoeuvre is not None:

@@ -22,7 +22,7 @@ import mujoco
 import numpy as np
 
 from . import builder, start
-from .controllers import GaitDrive, Manoeuvre, PathDrive, Ship, VehiclePilot, WinchDrive  # noqa: F401 - Ship: the run's ship kinematics
+from .controllers import GaitDrive, Manoeuvre, PathDrive, Ship, VehiclePilot, VesselFollow, WinchDrive  # noqa: F401 - Ship: the run's ship kinematics
 from .readouts import RECORD_FIELDS, Readouts, roll_pitch  # noqa: F401 - the record's columns
 from .scenario import Scenario
 from .scene import VEHICLE, build_scene, heading_quat, makeup_from, tether_from, vehicle_tow_point  # noqa: F401
@@ -168,10 +168,11 @@ class ScenarioRun:
             raise
         self.rated_load = sc.tether.rated_load
 
-    def _vessel_pilot(self, scene) -> VehiclePilot:
+    def _vessel_pilot(self, scene):
         """Turn the vessel to ``ship.heading_deg`` and give it its autopilot: station on
-        ``ship.position`` (fixed) or ``ship.waypoints`` at ``ship.speed`` by line-of-sight guidance,
-        then station on the last."""
+        ``ship.position`` (fixed), ``ship.waypoints`` at ``ship.speed`` by line-of-sight guidance,
+        then station on the last (waypoints), or a station ``ship.offset`` from the robot, moving
+        with it (follow: a ``VesselFollow``)."""
         m, s = self.sim.model, self.sc.ship
         adr = m.joint("ship/ball").qposadr[0]
         heading = math.radians(s.heading_deg)
@@ -186,6 +187,8 @@ class ScenarioRun:
                              acceptance_radius=self.sc.robot.acceptance_radius, surface=True, body=body)
         if route is None:
             pilot.station = (float(s.position[0]), float(s.position[1]), 0.0, heading)
+        if s.mode == "follow":  # the station moves with the robot, ship.offset from it
+            return VesselFollow(pilot, s.offset, heading)
         return pilot
 
     @property

@@ -325,9 +325,10 @@ class Ship(Section):
                               "relative to the water surface; negative below it")
     vessel: str = param("", doc="a surface vessel carrying the winch instead of the prescribed ship: a shipped "
                         "vehicle with [surface] (mjtether.vehicles.shipped()) or a vehicle file; its autopilot "
-                        "holds ship.position (fixed) or flies ship.waypoints at ship.speed by line-of-sight "
-                        "guidance (robot.lookahead, robot.acceptance_radius), then holds the last; the tether "
-                        "leaves it at its tow point")
+                        "holds ship.position (fixed), flies ship.waypoints at ship.speed by line-of-sight "
+                        "guidance (robot.lookahead, robot.acceptance_radius), then holds the last, or holds a "
+                        "station ship.offset from the robot, moving with it (follow); the tether leaves it at "
+                        "its tow point")
     heading_deg: float = param(0.0, -360.0, 360.0, "deg", "vessel: heading at the start and held on station")
 
     def _check(self):
@@ -343,9 +344,6 @@ class Ship(Section):
             if vs.hydro.surface is None or not vs.thrusters:
                 self._bad("vessel", f"{self.vessel} is not a surface vessel with thrusters ([surface] and "
                           "[[thrusters]] in its vehicle file)")
-            if self.mode == "follow":
-                self._bad("mode", "follow is for the prescribed ship; a vessel (ship.vessel) holds station (fixed) "
-                          "or flies waypoints")
             for key in ("heave_amplitude", "fairlead_z"):
                 if getattr(self, key) != 0.0:
                     self._bad(key, "is for the prescribed ship: a vessel (ship.vessel) heaves by itself and its "

@@ -98,3 +98,47 @@ def test_a_vessel_must_float_and_have_thrusters():
         load_scenario(text=SCENARIO.format(duration=10.0, mode="fixed").replace(USV.as_posix(), "bluerov2_heavy"))
     with pytest.raises(ConfigError, match=r"ship.heave_amplitude .*is for the prescribed ship"):
         load_scenario(text=SCENARIO.format(duration=10.0, mode="fixed") + "\n", overrides=["ship.heave_amplitude=1.0"])
+
+
+FOLLOW = f"""
+[simulation]
+duration = 80.0
+timestep = 0.005
+output_interval = 1.0
+[water]
+depth = 60.0
+[tether]
+length = 40.0
+segments = 20
+diameter = 0.0076
+density = 1150.0
+EA = 2.0e5
+[winch]
+mode = "fixed"
+[ship]
+vessel = "{USV.as_posix()}"
+mode = "follow"
+position = [0.0, 0.0]
+offset = [-15.0, 0.0]
+[robot]
+type = "vehicle"
+vehicle = "bluerov2_heavy"
+position = [15.0, 0.0, -20.0]
+setpoints = [[0.0, 0.0, 0.0, 20.0], [10.0, 0.4, 0.0, 20.0]]
+"""
+
+
+def test_vessel_follows_the_robot():
+    """``ship.mode = "follow"`` with a vessel: its autopilot holds a station 15 m behind the
+    BlueROV2's tow point, moving with the ROV at 0.4 m/s. Over the last 20 s of 80 s the vessel
+    is within 0.5 m of that station (its PD acts on the position and on the velocity relative to
+    the station's: it lags by what it takes to make its drag at 0.4 m/s, d_u u + d_uu u^2 = 8.8 N,
+    and the cable's pull over its station gain of 60 N/m, about 0.2 m; measured 0.22 m) and moves
+    at the ROV's speed, to 2 %."""
+    rows, _, _ = run(load_scenario(text=FOLLOW))
+    late = rows[rows[:, COL["time"]] >= 60.0]
+    gap = np.hypot(late[:, COL["ship_x"]] - (late[:, COL["robot_x"]] - 15.0), late[:, COL["ship_y"]] - late[:, COL["robot_y"]])
+    assert gap.max() < 0.5
+    t, x = late[:, COL["time"]], late[:, COL["ship_x"]]
+    speed = (x[-1] - x[0]) / (t[-1] - t[0])
+    assert speed == pytest.approx(late[:, COL["robot_speed"]].mean(), rel=0.02)
