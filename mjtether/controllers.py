@@ -201,15 +201,15 @@ class Manoeuvre:
 class PathDrive:
     """A vehicle moved along a prescribed path (``robot.path``) instead of flown: before each
     physics step its pose and velocity are set to the path's, so that whatever the cable and the
-    water do, it moves as given (the 001 paper's "AUV moving at equilibrium conditions": its
-    thrust makes up the cable's pull, which is the output).
+    water do, it moves as given (the fibre-paying AUV study's "AUV moving at equilibrium
+    conditions": its thrust makes up the cable's pull, which is the output).
 
     ``rows``: (time s, speed through the water m/s along the body's x axis, heading rad, pitch
     rad, positive nose down), linear between rows and held after the last; the current at the
     vehicle's depth carries it besides (from the path's second row on; ramped in before it);
-    ``start``: the origin's position at
-    t = 0 (m, world); ``body``: the vehicle's ``BoundVehicle`` (its joints: three slides from
-    the position it was built at, ``origin0``, and a ball)."""
+    ``start``: the origin's position at t = 0 (m, world); ``body``: the vehicle's
+    ``BoundVehicle`` (its joints: three slides from the position it was built at, ``origin0``,
+    and a ball)."""
 
     def __init__(self, rows, start, origin0, model, body):
         self.rows = np.asarray(rows, dtype=float)
