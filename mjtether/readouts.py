@@ -161,7 +161,7 @@ class Readouts:
         self.hulls = []
         if run.is_vehicle:
             self.hulls.append(_hull(m.body("vehicle").id, run.scene.vehicle, True))
-        if getattr(run.scene, "vessel", None) is not None:
+        if run.scene.vessel is not None:
             self.hulls.append(_hull(self._ship_body, run.scene.vessel, False))
         self.last_tangle = None
         """The latest ``tangle()``: what the record and the monitor's events read."""
