@@ -81,6 +81,26 @@ def profile_codes(water) -> tuple[int, np.ndarray, int, np.ndarray] | None:
 
 
 @_jit
+def _interp(x, xp, fp):
+    """``np.interp(x, xp, fp)`` for one number ``x`` (``xp`` increasing), by the same formula
+    (slope (x - xp_j) + fp_j; NaN gives NaN), without the allocation of numba's ``np.interp``."""
+    n = xp.shape[0]
+    if x < xp[0]:
+        return fp[0]
+    if x >= xp[n - 1]:
+        return fp[n - 1]
+    lo, hi = 0, n - 1  # xp[lo] <= x < xp[hi]
+    while hi - lo > 1:
+        mid = (lo + hi) >> 1
+        if xp[mid] <= x:
+            lo = mid
+        else:
+            hi = mid
+    slope = (fp[lo + 1] - fp[lo]) / (xp[lo + 1] - xp[lo])
+    return slope * (x - xp[lo]) + fp[lo]
+
+
+@_jit
 def _density(kind, p, depth):
     """Density (kg/m^3) at ``depth`` (m, >= 0): ``water``'s profiles."""
     if kind == 0:
@@ -88,7 +108,7 @@ def _density(kind, p, depth):
     if kind == 1:
         return p[0] + p[1] * depth
     n = p.shape[0] // 2
-    return np.interp(depth, p[:n], p[n:])
+    return _interp(depth, p[:n], p[n:])
 
 
 @_jit
@@ -117,8 +137,8 @@ def element_water(x, dkind, dp, ckind, cp, rho, u):
         depth = max(-min(0.5 * (x[i + 1, 2] + x[i, 2]), 0.0), 0.0)
         rho[i] = _density(dkind, dp, depth)
         if ckind == 4:
-            u[i, 0] = np.interp(depth, cp[:m], cp[m:2 * m])
-            u[i, 1] = np.interp(depth, cp[:m], cp[2 * m:])
+            u[i, 0] = _interp(depth, cp[:m], cp[m:2 * m])
+            u[i, 1] = _interp(depth, cp[:m], cp[2 * m:])
         else:
             speed = _speed(ckind, cp, depth)
             u[i, 0] = speed * cos
@@ -272,8 +292,8 @@ def rigid_body_loads(R, p_cob, v_cob, omega, volume, height, drag_cd, drag_area,
     u = np.empty(3)
     if ckind == 4:
         m = cp.shape[0] // 3
-        u[0] = np.interp(depth, cp[:m], cp[m:2 * m])
-        u[1] = np.interp(depth, cp[:m], cp[2 * m:])
+        u[0] = _interp(depth, cp[:m], cp[m:2 * m])
+        u[1] = _interp(depth, cp[:m], cp[2 * m:])
     else:
         speed = _speed(ckind, cp, depth)
         u[0] = speed * math.cos(cp[cp.shape[0] - 1])
@@ -333,8 +353,8 @@ def vehicle_wrench(nu, R, z, dkind, dp, ckind, cp, gravity, MA, keep, DL, fade, 
     u = np.zeros(3)
     if ckind == 4:
         m = cp.shape[0] // 3
-        u[0] = np.interp(depth, cp[:m], cp[m:2 * m])
-        u[1] = np.interp(depth, cp[:m], cp[2 * m:])
+        u[0] = _interp(depth, cp[:m], cp[m:2 * m])
+        u[1] = _interp(depth, cp[:m], cp[2 * m:])
     else:
         speed = _speed(ckind, cp, depth)
         u[0] = speed * math.cos(cp[cp.shape[0] - 1])
@@ -466,3 +486,147 @@ def vehicle_wrench(nu, R, z, dkind, dp, ckind, cp, gravity, MA, keep, DL, fade, 
         tau[3] += prop[12] * Q
         tau[4] += prop[3] * thrust
         tau[5] -= prop[2] * thrust
+
+
+# --------------------------------------------------------------------------- the steady march
+
+
+@_jit
+def _element_load(z0, t, l_s, l, d, A, mu, cdn, cdt_pi, float_cda, dkind, dp, ckind, cp, v_tow, g, f):
+    """``quasistatic.steady._Cable.loads`` of one element into ``f`` (3,), N: from height ``z0``
+    (m) along the unit tangent ``t`` for the stretched length ``l_s`` (m); its wet length, the
+    water at its centre, Morison drag on the current less ``v_tow``, buoyancy less weight."""
+    z1 = z0 + l_s * t[2]
+    if z0 <= 0.0 and z1 <= 0.0:
+        zc = 0.5 * (z0 + z1)
+        l_wet = l
+    else:
+        zc = min(0.5 * (z0 + z1), 0.0)
+        lo, hi = min(z0, z1), max(z0, z1)
+        span = hi - lo
+        if span > 1e-12:
+            frac = min(max(-lo / span, 0.0), 1.0)
+        else:
+            frac = 1.0 if lo <= 0.0 else 0.0
+        l_wet = l * frac
+    depth = max(-min(zc, 0.0), 0.0)
+    rho = _density(dkind, dp, depth)
+    if ckind == 4:
+        m = cp.shape[0] // 3
+        u0 = _interp(depth, cp[:m], cp[m:2 * m])
+        u1 = _interp(depth, cp[:m], cp[2 * m:])
+    else:
+        speed = _speed(ckind, cp, depth)
+        u0 = speed * math.cos(cp[cp.shape[0] - 1])
+        u1 = speed * math.sin(cp[cp.shape[0] - 1])
+    u0, u1, u2 = u0 - v_tow[0], u1 - v_tow[1], 0.0 - v_tow[2]
+    ut = u0 * t[0] + u1 * t[1] + u2 * t[2]
+    n0, n1, n2 = u0 - ut * t[0], u1 - ut * t[1], u2 - ut * t[2]
+    q = 0.5 * d * l_wet * rho
+    un_mag = math.sqrt(n0 * n0 + n1 * n1 + n2 * n2)
+    kn = q * cdn * un_mag
+    kt = q * cdt_pi * abs(ut) * ut
+    f[0] = kn * n0 + kt * t[0]
+    f[1] = kn * n1 + kt * t[1]
+    f[2] = kn * n2 + kt * t[2]
+    if float_cda > 0.0:
+        kf = 0.5 * float_cda * l_wet * rho * un_mag
+        f[0] += kf * n0
+        f[1] += kf * n1
+        f[2] += kf * n2
+    f[2] += (rho * A * l_wet - mu * l) * g
+
+
+@_jit
+def hang_up(s_td, seabed_z, stop_z, max_iterations, l, EA, d, A, mu, cdn, cdt_pi, float_cda, dkind, dp, ckind, cp,
+            v_tow, g, xs, Ts, p):
+    """``quasistatic.steady._hang_up`` of a uniform line (element properties as scalars, the
+    water as codes): the nodes from the touchdown up into ``xs`` (k + 2, 3), the tensions into
+    ``Ts`` (k + 1,), the force at the last node into ``p`` (3,); returns (nodes written, phi)."""
+    k = int(math.floor(s_td / l * (1 + 1e-12)))
+    phi = s_td / l - k
+    first = 0 if phi > 1e-12 else 1  # (a hanging part of the touchdown element, if any)
+    x = np.array([0.0, 0.0, seabed_z])
+    t = np.array([0.0, 0.0, -1.0])
+    f, E, gg = np.empty(3), np.empty(3), np.empty(3)
+    p[0] = p[1] = p[2] = 0.0
+    xs[0] = x
+    count = 1
+    T = 0.0
+    for i in range(first, k + 1):
+        frac = phi if i == 0 else 1.0
+        alpha, miss_old = 1.0, math.inf
+        for _ in range(max_iterations):
+            l_s = frac * l * (1.0 + T / EA)
+            _element_load(x[2] - l_s * t[2], t, l_s, l, d, A, mu, cdn, cdt_pi, float_cda, dkind, dp, ckind, cp,
+                          v_tow, g, f)
+            for j in range(3):
+                E[j] = p[j] + 0.5 * frac * f[j]
+            T = math.sqrt(E[0] * E[0] + E[1] * E[1] + E[2] * E[2])
+            for j in range(3):
+                gg[j] = E[j] / max(T, 1e-300)
+            miss = math.sqrt((gg[0] - t[0]) ** 2 + (gg[1] - t[1]) ** 2 + (gg[2] - t[2]) ** 2)
+            if miss <= 1e-10:
+                break
+            if miss > 0.5 * miss_old:  # not contracting: relax
+                alpha = max(0.5 * alpha, 1.0 / 64)
+            miss_old = miss
+            for j in range(3):
+                t[j] = t[j] + alpha * (gg[j] - t[j])
+            norm = math.sqrt(t[0] * t[0] + t[1] * t[1] + t[2] * t[2])
+            for j in range(3):
+                t[j] /= norm
+        for j in range(3):
+            t[j] = gg[j]
+        s = frac * l * (1.0 + T / EA)
+        for j in range(3):
+            x[j] = x[j] - s * t[j]
+            p[j] = p[j] + frac * f[j]
+        xs[count] = x
+        Ts[count - 1] = T
+        count += 1
+        if x[2] > stop_z:
+            break
+    return count, phi
+
+
+@_jit
+def steady_march(x0, P0, l_e, EA_e, d_e, A_e, mu_e, cdn_e, cdt_pi_e, float_cda, dkind, dp, ckind, cp, v_tow, g,
+                 iterations, stop_on_touchdown, k_min, allow_first, X, T, P, td):
+    """``quasistatic.steady._Cable.march`` of a line without point loads from node 0: the
+    elements marched from ``x0`` (K, 3) with top forces ``P0`` (K, 3) into nodes ``X`` (K, n+1,
+    3), tensions ``T`` (K, n) and forces ``P`` (K, n+1, 3) (N, m), and with
+    ``stop_on_touchdown`` the touchdown element of each shot into ``td`` (K,), -1 if none.
+    Per element (n,): unstretched length (m), EA (N, inf: inextensible), diameter (m),
+    displaced area (m^2), mass per length (kg/m), C_dn, pi C_dt, floats' normal drag area per
+    metre (m^2/m); the water as codes (``profile_codes``); ``v_tow`` the tow velocity (m/s)."""
+    K, n = x0.shape[0], l_e.shape[0]
+    f = np.empty(3)
+    E = np.empty(3)
+    t = np.empty(3)
+    for s in range(K):
+        for j in range(3):
+            X[s, 0, j] = x0[s, j]
+            P[s, 0, j] = P0[s, j]
+        td[s] = -1
+        f[0], f[1], f[2] = 0.0, 0.0, -mu_e[0] * l_e[0] * g
+        for k in range(n):
+            l, EA, d = l_e[k], EA_e[k], d_e[k]
+            Tk, l_s = 0.0, 0.0
+            for _ in range(iterations):
+                for j in range(3):
+                    E[j] = P[s, k, j] - 0.5 * f[j]
+                Tk = math.sqrt(E[0] * E[0] + E[1] * E[1] + E[2] * E[2])
+                inv = max(Tk, 1e-300)
+                for j in range(3):
+                    t[j] = E[j] / inv
+                l_s = l * (1.0 + Tk / EA)
+                _element_load(X[s, k, 2], t, l_s, l, d, A_e[k], mu_e[k], cdn_e[k], cdt_pi_e[k], float_cda[k], dkind,
+                              dp, ckind, cp, v_tow, g, f)
+            T[s, k] = Tk
+            for j in range(3):
+                X[s, k + 1, j] = X[s, k, j] + l_s * t[j]
+                P[s, k + 1, j] = P[s, k, j] - f[j]
+            if stop_on_touchdown and k >= k_min and td[s] < 0 and P[s, k + 1, 2] >= 0.0:
+                if (k == k_min and allow_first) or P[s, k, 2] < 0.0:
+                    td[s] = k

@@ -115,6 +115,17 @@ class BoundBodyHydro:
         self._codes = compiled.profile_codes(water) if compiled.backend() == "numba" else None
         self._force, self._torque = np.zeros(3), np.zeros(3)
 
+    def native_table(self):
+        """This body's arrays for the native callback (``native``, slots ``B_*``), or None where its
+        loads need Python (the NumPy kernels, or a water profile the compiled kernels do not know)."""
+        if self._codes is None:
+            return None
+        dkind, dp, ckind, cp = self._codes
+        h = self.hydro
+        return [np.array([self.id, dkind, ckind], dtype=np.int64),
+                np.array([h.volume, h.height, self.water.gravity, *self._cob], dtype=float),
+                self._cd, self._area, self._ang, dp, cp]
+
     def loads(self, model, data):
         """Force (N) at the centre of buoyancy, torque (N m) and that point, world frame."""
         R = data.xmat[self.id].reshape(3, 3)

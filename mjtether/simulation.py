@@ -13,7 +13,7 @@ import math
 import mujoco
 import numpy as np
 
-from . import compiled, dispatch
+from . import compiled, dispatch, native
 from .builder import TETHER_CONTACT_BIT, TetherModel, axial_params, axial_scalar
 from .hydro import bending_forces, element_geometry, tether_loads
 from .rigidbody import BodyHydroModel, BoundBodyHydro, make_not_simple
@@ -139,6 +139,9 @@ class BoundTether:
         self._f_min = max(SLACK_FORCE * abs(w0) * self.l0, 1e-6)
         self._seabed = self._find_seabed(model, tm)
         self._fast = self._compiled_kernels() if compiled.backend() == "numba" else None
+        # updated in place, as the native callback reads them (native_table)
+        self._rest, self._inertia = np.zeros(n), np.zeros(n + 1)
+        self._native_state = np.zeros(3)  # first, its share of the drum element, payout rate
         self._relayout()
 
     def _compiled_kernels(self):
@@ -259,7 +262,7 @@ class BoundTether:
         m.dof_armature[self._dof0:self._dof0 + 3 * (n + 1)] = np.repeat(iso, 3)
         if self._normal_ten is not None:
             m.tendon_armature[self._normal_ten] = np.repeat(normal, 2)
-        self._inertia = mass + iso  # along the cable (what its axial mode moves)
+        self._inertia[:] = mass + iso  # along the cable (what its axial mode moves)
         # elements: inverse mass along the element, solver parameters, rest lengths
         js = np.arange(n)
         inv = 1.0 / self._inertia[:-1] + 1.0 / self._inertia[1:]
@@ -270,10 +273,47 @@ class BoundTether:
         m.eq_solimp[self._eqs] = p.solimp
         self._lead = p.B / p.S  # s: see _set_rest
         self._K = np.array(p.stiffness, dtype=float)  # N/m, static stiffness of each element
-        self._rest = rest
-        self._deployed_rest = rest[k:]
+        self._rest[:] = rest
+        self._deployed_rest = self._rest[k:]
         self._set_rest(0, n)
         self.axial = p
+        self._sync_native()
+
+    def _sync_native(self) -> None:
+        """The payout state as the native callback reads it (``native_table``'s state row)."""
+        st = self._native_state
+        st[0] = self.first
+        st[1] = 0.5 if self.makeup is not None else self.fairlead_share / max(self.drum_rest, 1e-300)
+        st[2] = self.payout_rate if self.drum_eq is not None else 0.0
+
+    def native_table(self):
+        """This tether's arrays for the native callback (``native``, slots ``T_*``), or None where
+        its loads need Python (the NumPy kernels, or a water profile the compiled kernels do not
+        know). The arrays are this object's own, updated in place as the cable pays out."""
+        c = self._fast
+        if c is None or c["water"] is None:
+            return None
+        dkind, dp, ckind, cp = c["water"]
+        mk, n = self.makeup, self.n
+        empty = np.zeros(0)
+        mode, real = 0, np.zeros(13)
+        real[0] = self.water.gravity
+        if self._seabed is not None:
+            point, normal, w = self._seabed
+            dt = self.model.opt.timestep
+            mode = 2 if mk is not None else (3 if w <= 0.0 else 1)
+            real[1:7] = (STICK_STIFFNESS / dt ** 2, 2.0 * STICK_DAMPING * math.sqrt(STICK_STIFFNESS) / dt, w,
+                         float(self.tm.seabed_friction), self.spec.diameter / 2, CONTACT_TOLERANCE)
+            real[7:10], real[10:13] = point, normal
+        wrap = -1 if self._normal_prm is None else int(self.model.tendon_adr[self._normal_ten.start])
+        points = mk is not None and mk.has_point_loads
+        ints = np.array([n, self.vertadr, self._dof0, mode, self._stick.start if mode else 0,
+                         c["bend"] is not None, dkind, ckind, points, wrap], dtype=np.int64)
+        node = (lambda a: np.ascontiguousarray(a, dtype=float)) if mk is not None else (lambda a: empty)  # noqa: E731
+        return [ints, real, self._native_state, self._rest, self._inertia, c["diameter"], c["cd_normal"],
+                c["cd_tangential"], c["area"], c["cd_area_float"], empty if c["bend"] is None else c["bend"], dp, cp,
+                node(getattr(self, "_node_wet", empty)) if mode == 2 else empty,
+                node(mk.node_volume) if points else empty, node(mk.node_cd_area) if points else empty]
 
     def _update_drum(self) -> None:
         """``_update`` for an ordinary payout step (only the drum element's rest length changed):
@@ -419,6 +459,7 @@ class BoundTether:
             if self.payout_rate:
                 self.payout_rate = 0.0
                 self._set_rest(k, k + 1)
+                self._sync_native()
             return  # (a fixed winch calls this every step)
         self.payout_rate = (L - self.deployed_length) / self.model.opt.timestep if rate is None else float(rate)
         if self.drum_eq is None:
@@ -449,6 +490,7 @@ class BoundTether:
             self._relayout()
         else:
             self._update_drum()
+            self._sync_native()
 
     # ----------------------------------------------------------------- forces
 
@@ -843,7 +885,16 @@ class Simulation:
         self._bad_acc0 = 0
         self._t_step = 0.0  # s, the time at the end of the step being taken
         self._worst = []  # what was furthest out after the last step (see check)
-        dispatch.register(self.data, self._passive, self.model)
+        tables = [p.native_table() for p in self._providers] if native.available() else [None]
+        block = None
+        if all(t is not None for t in tables):
+            kinds = [native.TETHER] * len(self.tethers) + [native.VEHICLE if isinstance(b, BoundVehicle) else native.BODY
+                                                           for b in self.bodies]
+            writes = any(t._normal_prm is not None for t in self.tethers.values()) or \
+                any(isinstance(b, BoundVehicle) for b in self.bodies)
+            block = native.Block(list(zip(kinds, tables)), writes_model=writes)
+        self.native = block is not None  # MuJoCo applies the loads itself, on any thread (``native``)
+        dispatch.register(self.data, self._passive, self.model, block=block)
         try:
             mujoco.mj_forward(self.model, self.data)
             dispatch.raise_pending(self.data)

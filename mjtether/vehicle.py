@@ -245,6 +245,7 @@ class BoundVehicle:
     def __init__(self, vm: VehicleModel, model: mujoco.MjModel, water):
         self.name, self.hydro, self.water = vm.name, vm.hydro, water
         self.id = model.body(vm.name).id
+        self._model = model
         slide = model.joint(f"{vm.name}/x")
         ball = model.joint(f"{vm.name}/ball")
         self._v = slice(int(slide.dofadr[0]), int(slide.dofadr[0]) + 3)
@@ -284,6 +285,24 @@ class BoundVehicle:
             self._tau = np.zeros(6)
         make_not_simple(model, self.id)
         self._orient(np.eye(3))
+
+    def native_table(self):
+        """This vehicle's arrays for the native callback (``native``, slots ``V_*``), or None where
+        its wrench needs Python (the NumPy kernels, a water profile or hull class the compiled
+        kernel does not know)."""
+        if self._codes is None:
+            return None
+        dkind, dp, ckind, cp = self._codes
+        h = self.hydro
+        keep, hull, fins, prop, surface = self._arrays
+        f = lambda a: np.ascontiguousarray(a, dtype=float).ravel()  # noqa: E731
+        w0 = int(self._model.tendon_adr[self._ten.start])
+        ints = np.array([self.id, self._v.start, self._w.start, dkind, ckind,
+                         -1 if self._prop_act is None else self._prop_act, w0, self._has_explicit], dtype=np.int64)
+        return [ints, np.array([self.water.gravity, h.volume], dtype=float), f(h.added_mass), f(keep),
+                f(h.linear_damping), f(h.linear_damping_fade), f(h.quadratic_damping), f(self._M_lin), f(self._r_b),
+                f(hull), f(fins), f(prop), f(surface), dp, cp, np.asarray(self._fin_act, dtype=np.int64), f(self._axes),
+                f(self._explicit)]
 
     def _orient(self, R: np.ndarray) -> None:
         """Turn the added-mass tendons along the linear block's principal axes at orientation R."""

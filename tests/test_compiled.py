@@ -229,3 +229,64 @@ def test_vehicle_wrench_matches_the_numpy_kernel(monkeypatch, name, density, cur
         states.append((qpos, qvel, act))
     close(_vehicle_wrenches(monkeypatch, "numba", name, water, states),
           _vehicle_wrenches(monkeypatch, "numpy", name, water, states))
+
+
+# --------------------------------------------------------------------------- the steady march
+
+def _cables():
+    """A uniform tether, and a make-up with floats (sections of two line types), in each water
+    column, towed at 0.3 m/s."""
+    from mjtether.quasistatic import steady
+
+    tether = mt_tether()
+    line = mt_makeup()
+    for density, current in PROFILES:
+        water = wm.WaterColumn(depth=300.0, density=density, current=current)
+        for t in (tether, line):
+            yield steady._Cable(t, water, (0.3, -0.1, 0.0), "tether" if t is line else t.EA)
+
+
+def mt_tether():
+    from mjtether.tether import TetherSpec
+
+    return TetherSpec(length=250.0, segments=60, diameter=0.03, density=1300.0, EA=2e6)
+
+
+def mt_makeup():
+    from mjtether.makeup import DistributedBuoyancy, LineMakeup, Section
+
+    return LineMakeup([Section(80.0, 20, 0.05, 12.0, EA=5e7), Section(120.0, 30, 0.04, 1.5, EA=1e6, cd_normal=1.5)],
+                      [DistributedBuoyancy(90.0, 130.0, 0.02, 5.0, 0.1)])
+
+
+def test_steady_march_matches_the_numpy_march():
+    """Four shots (top forces around a hanging cable's, one crossing the surface from a fairlead
+    above it) through ``_Cable.march``, compiled and NumPy, in every water column: nodes, tensions
+    and forces to 1e-12 of their largest, the touchdown element the same."""
+    rng = np.random.default_rng(3)
+    for cable in _cables():
+        x0 = np.array([[0.0, 0.0, 2.0], [0.0, 0.0, -5.0], [10.0, 0.0, -1.0], [0.0, 5.0, 0.0]])
+        W = float(np.sum(cable.mu_e * cable.l_e)) * 9.81
+        P0 = np.array([[-0.3 * W, 0.0, -0.8 * W]] * 4) * rng.uniform(0.6, 1.4, size=(4, 1))
+        fast = cable.march(x0, P0, stop_on_touchdown=True)
+        cable.fast = None
+        ref = cable.march(x0, P0, stop_on_touchdown=True)
+        for a, b in zip(fast[:3], ref[:3]):
+            close(a, b)
+        np.testing.assert_array_equal(fast[3], ref[3])
+
+
+def test_hang_up_matches_the_numpy_hang():
+    """A slack cable's free hang marched up from its touchdown (``_hang_up``), compiled and
+    NumPy, in every water column: nodes, tensions and the top force to 1e-12 of their largest."""
+    from mjtether.quasistatic import steady
+
+    for cable in _cables():
+        if cable.makeup is not None:
+            continue  # (the slack hang is solved for uniform lines)
+        fast = steady._hang_up(cable, 201.3, -300.0)
+        cable.fast = None
+        ref = steady._hang_up(cable, 201.3, -300.0)
+        for a, b in zip(fast[:3], ref[:3]):
+            close(a, b)
+        assert fast[3] == ref[3]

@@ -52,9 +52,9 @@ def test_close_removes_forces():
 
 
 def test_a_provider_failing_on_the_first_state_leaves_nothing_registered(monkeypatch):
-    """A force provider that raises while the simulation is being made (its first mj_forward)
-    raises from the constructor, and the half-made simulation is unregistered (there is no
-    object to close)."""
+    """A Python force provider (the NumPy kernels: compiled ones raise nothing) that raises while
+    the simulation is being made (its first mj_forward) raises from the constructor, and the
+    half-made simulation is unregistered (there is no object to close)."""
     import mujoco
 
     import mjtether.vehicle
@@ -67,6 +67,7 @@ def test_a_provider_failing_on_the_first_state_leaves_nothing_registered(monkeyp
         raise ArithmeticError("a provider failed")
 
     monkeypatch.setattr(mjtether.vehicle.BoundVehicle, "apply", fails)
+    monkeypatch.setenv(mt.compiled.KERNELS_ENV, "numpy")
     before = mt.dispatch.active_count()
     with pytest.raises(ArithmeticError, match="a provider failed"):
         mt.Simulation(spec, mt.WaterColumn(depth=100.0), bodies=[vm])
@@ -82,15 +83,17 @@ def _state(sim):
     return s
 
 
-def test_a_rollout_of_a_tether_model_is_refused_not_run_in_vacuum():
-    """``mujoco.rollout`` steps its own ``MjData``, which no Simulation owns: its cable would
-    have no drag, weight or buoyancy. On the main thread it fails with the reason; on worker
-    threads (where an exception would abort the process) its states come back NaN with a
-    RuntimeWarning saying why. The simulation itself steps on unharmed, and a model that is not
-    mjtether's rolls out as before."""
+def test_a_rollout_of_a_python_forced_model_is_refused_not_run_in_vacuum(monkeypatch):
+    """With the NumPy kernels (Python providers), ``mujoco.rollout`` steps its own ``MjData``,
+    which no Simulation owns and whose worker threads cannot call Python: its cable would have no
+    drag, weight or buoyancy. On the main thread it fails with the reason; on worker threads
+    (where an exception would abort the process) its states come back NaN with a RuntimeWarning
+    saying why. The simulation itself steps on unharmed, and a model that is not mjtether's rolls
+    out as before. (With the compiled kernels the loads apply there: ``test_native``.)"""
     import mujoco
     from mujoco import rollout
 
+    monkeypatch.setenv(mt.compiled.KERNELS_ENV, "numpy")
     plain = mujoco.MjModel.from_xml_string("<mujoco><worldbody><body><freejoint/><geom size='0.1'/></body>"
                                            "</worldbody></mujoco>")  # (compiled before the simulation)
     with _make(0.5) as sim:
