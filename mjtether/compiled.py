@@ -630,3 +630,114 @@ def steady_march(x0, P0, l_e, EA_e, d_e, A_e, mu_e, cdn_e, cdt_pi_e, float_cda, 
             if stop_on_touchdown and k >= k_min and td[s] < 0 and P[s, k + 1, 2] >= 0.0:
                 if (k == k_min and allow_first) or P[s, k, 2] < 0.0:
                     td[s] = k
+
+
+# --------------------------------------------------------------------------- the walker's gait
+
+
+@_jit
+def tripod_targets(phase, legs, speed, turn_rate, half, max_stride, step_height, coxa, femur, tibia, out):
+    """``walker.Tripod.targets`` after its phase update: the 18 joint targets (rad) into ``out``
+    for ``phase`` (0-1), each leg's row of ``legs`` (hip x, y, z, cos and sin of its yaw, neutral
+    foot x, y, z, phase offset; m), the commanded ``speed`` (m/s) and ``turn_rate`` (rad/s), half
+    the gait period (s), the stride limit and step height (m) and the link lengths (m) of
+    ``walker.leg_ik``. Returns the index of the first leg whose foot is out of reach, or -1."""
+    for i in range(legs.shape[0]):
+        hx, hy, hz, c, s, nx, ny, nz, offset = (legs[i, 0], legs[i, 1], legs[i, 2], legs[i, 3], legs[i, 4],
+                                                  legs[i, 5], legs[i, 6], legs[i, 7], legs[i, 8])
+        ph = (phase + offset) % 1.0
+        dx, dy = (speed - turn_rate * ny) * half, turn_rate * nx * half
+        n = math.hypot(dx, dy)
+        if n > max_stride:
+            dx, dy = dx * max_stride / n, dy * max_stride / n
+        if ph < 0.5:  # stance
+            a, lift = 0.5 - 2 * ph, 0.0
+        else:  # swing
+            sig = 2 * ph - 1
+            a, lift = sig - 0.5, step_height * math.sin(math.pi * sig)
+        fx, fy, fz = nx + a * dx - hx, ny + a * dy - hy, nz + lift - hz
+        x, y, z = c * fx + s * fy, -s * fx + c * fy, fz  # R^T (foot - hip): walker.leg_ik from here
+        q0 = math.atan2(y, x)
+        r = math.hypot(x, y) - coxa
+        D = math.hypot(r, z)
+        if not abs(femur - tibia) < D < femur + tibia:
+            return i
+        gamma = math.acos((femur ** 2 + D * D - tibia ** 2) / (2 * femur * D))
+        a1 = math.atan2(z, r) + gamma
+        a2 = math.atan2(z - femur * math.sin(a1), r - femur * math.cos(a1))
+        q1 = -a1
+        phi = math.atan2(-math.cos(a2), -math.sin(a2))
+        out[3 * i], out[3 * i + 1], out[3 * i + 2] = q0, q1, phi - q1
+    return -1
+
+
+# --------------------------------------------------------------------------- per-step bookkeeping
+
+
+@_jit
+def slack_switch(act, f, ten_length, rest, K, first, f_min, slack_tension, taut, all_rows):
+    """``simulation.BoundTether.update_slack`` after its row lookup: ``act`` (n,) the elements'
+    ``eq_active`` (switched in place), ``f`` the active elements' constraint forces in element
+    order (N, > 0 pushes), ``ten_length``, ``rest`` (m) and ``K`` (N/m) per element; ``all_rows``:
+    every deployed element had a row. Returns (changed, redo)."""
+    n = act.shape[0]
+    nf = f.shape[0]
+    if nf:
+        lowest = f[0]
+        for r in range(1, nf):
+            lowest = min(lowest, f[r])
+        f_min = max(f_min, -slack_tension * lowest)
+    changed = redo = False
+    if nf:
+        off = np.zeros(n, dtype=np.bool_)
+        push_max, pushed = -math.inf, False
+        r = 0
+        for e in range(n):  # an element whose equality pushed goes slack (the last pass: only short ones)
+            if act[e]:
+                if f[r] > 0.0 and (taut or ten_length[e] < rest[e]):
+                    off[e] = True
+                    pushed = True
+                    push_max = max(push_max, f[r])
+                r += 1
+        if pushed:
+            for e in range(n):
+                if off[e]:
+                    act[e] = 0
+            changed = True
+            redo = push_max > f_min
+    if taut and not all_rows:  # a slack element longer than its rest length is taut again
+        over_max, caught = -math.inf, False
+        for e in range(first, n):
+            if act[e] == 0:
+                over = ten_length[e] - rest[e]
+                if over > 0.0:
+                    act[e] = 1
+                    caught = True
+                    over_max = max(over_max, over * K[e])
+        if caught:
+            changed = True
+            redo = redo or over_max > f_min
+    return changed, redo
+
+
+@_jit
+def tether_extremes(v, stretch_from, rest):
+    """``simulation.Simulation.check``'s search over one tether: (index of the largest |v| (the
+    first NaN if any), that |v|, index of the largest ``stretch_from - rest``, that stretch)."""
+    i, vmax = 0, -1.0
+    for a in range(v.shape[0]):
+        x = abs(v[a])
+        if math.isnan(x):
+            i, vmax = a, x
+            break
+        if x > vmax:
+            i, vmax = a, x
+    j, smax = 0, -math.inf
+    for b in range(rest.shape[0]):
+        s = stretch_from[b] - rest[b]
+        if math.isnan(s):
+            j, smax = b, s
+            break
+        if s > smax:
+            j, smax = b, s
+    return i, vmax, j, smax

@@ -375,6 +375,11 @@ class BoundTether:
         overshoots its rest length for a step; smaller ones, a laid cable's noise, just switch). (MuJoCo's one-sided limit constraints chatter at the stiffness a long time
         step allows, so tension only is made this way, from two-sided equalities.)"""
         d, k = self.data, self.first
+        if self._fast is not None:  # the same switching, compiled (compiled.slack_switch)
+            rows = self._element_rows(d)
+            return compiled.slack_switch(d.eq_active[self._eqs], d.efc_force[rows], d.ten_length[self._ten], self._rest,
+                                         self._K, k, self._f_min, SLACK_TENSION, taut,
+                                         rows.stop - rows.start >= self.n - k)[1]
         act = d.eq_active[self._eqs].copy()
         rows = self._element_rows(d)
         f = d.efc_force[rows]
@@ -882,6 +887,7 @@ class Simulation:
         for t in self.tethers.values():
             t._eq_snapshot = self._eq_snapshot
         self._closed = False
+        self._warnings = self.data.warning.number  # MuJoCo's warning counts (a live view)
         self._bad_acc0 = 0
         self._t_step = 0.0  # s, the time at the end of the step being taken
         self._worst = []  # what was furthest out after the last step (see check)
@@ -1012,8 +1018,8 @@ class Simulation:
         than ``MAX_STRAIN``. The message names the time, the tether element or MuJoCo degree of
         freedom, and the quantity."""
         d = self.data
-        w = d.warning
-        bad = w[_BADQPOS].number + w[_BADQVEL].number + w[_BADQACC].number
+        w, count = d.warning, self._warnings  # (a view of the counts: cheaper than the list's items)
+        bad = int(count[_BADQPOS]) + int(count[_BADQVEL]) + int(count[_BADQACC])
         if bad > self._bad_acc0 or not math.isfinite(d.qvel[0] + d.qpos[0]):
             self._bad_acc0 = bad
             what = []
@@ -1029,16 +1035,21 @@ class Simulation:
         for name, t in self.tethers.items():
             k = t.first
             v = qvel[t._dof0 + 3 * k:t._dof0 + 3 * (t.n + 1)]
-            i = int(np.argmax(np.abs(v)))
-            vmax = abs(float(v[i]))
+            if t._fast is not None:  # (compiled.tether_extremes: the same search)
+                i, vmax, j, stretch = compiled.tether_extremes(v, ten_length[t.tadr + k:t.tadr + t.n], t._deployed_rest)
+            else:
+                i = int(np.argmax(np.abs(v)))
+                vmax = abs(float(v[i]))
             if not vmax <= MAX_NODE_SPEED:  # (NaN too)
                 self._diverged(d.time, f"{name} node {i // 3} (of {t.N + 1} deployed, 0 at the ship) moves at "
                                        f"{vmax:.3g} m/s")
             if t.spec.EA is not None:
                 # stretch over the nominal element length (the drum element may be short)
-                stretch = ten_length[t.tadr + k:t.tadr + t.n] - t._deployed_rest
-                j = int(np.argmax(stretch))
-                strain = float(stretch[j]) / t.l0
+                if t._fast is None:
+                    s = ten_length[t.tadr + k:t.tadr + t.n] - t._deployed_rest
+                    j = int(np.argmax(s))
+                    stretch = float(s[j])
+                strain = stretch / t.l0
                 if strain > MAX_STRAIN:
                     self._diverged(d.time, f"{name} element {j} (0 at the ship) is stretched by "
                                            f"{100 * strain:.0f} % (EA {t.spec.EA:g} N)")

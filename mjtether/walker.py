@@ -20,6 +20,7 @@ from pathlib import Path
 import mujoco
 import numpy as np
 
+from . import compiled
 from .packagedata import asset_dir
 from .rigidbody import RigidBodyHydro
 
@@ -102,17 +103,27 @@ class Tripod:
                          0.0 if leg in TRIPOD_A else 0.5))
             acts += [model.actuator(f"{prefix}{leg}_{j}").id for j in ("coxa", "femur", "tibia")]
         self._legs = legs
+        self._leg_table = np.array(legs, dtype=float)  # (for the compiled gait)
+        self._out = np.empty(3 * len(legs))
+        self._fast = compiled.backend() == "numba"
         self.actuators = np.array(acts)
         return self
 
     def targets(self, dt: float, speed: float, turn_rate: float) -> list:
         """Advance the phase by ``dt`` (s) and return the 18 target angles (rad) of
         ``self.actuators`` (leg by leg in ``LEGS`` order: coxa, femur, tibia). Scalar code:
-        six legs are too few for NumPy to pay off, and this runs at the control rate."""
+        six legs are too few for NumPy to pay off, and this runs at the control rate; with the
+        compiled kernels, ``compiled.tripod_targets``, in an array that the next call overwrites.
+        A foot out of reach raises ValueError (``leg_ik``)."""
         if self._legs is None:
             raise RuntimeError("Tripod.bind(model) first")
         self.phase = (self.phase + dt / self.period) % 1.0
         half = self.period / 2
+        if self._fast:  # the same arithmetic, compiled (tests/test_walker.py)
+            bad = compiled.tripod_targets(self.phase, self._leg_table, float(speed), float(turn_rate), half,
+                                          self.max_stride, self.step_height, COXA, FEMUR, TIBIA, self._out)
+            if bad < 0:
+                return self._out
         out = []
         for hx, hy, hz, c, s, nx, ny, nz, offset in self._legs:
             ph = (self.phase + offset) % 1.0

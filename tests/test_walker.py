@@ -76,3 +76,26 @@ def test_walker_walks_a_10_m_circle():
     radius = math.sqrt(c[2] + c[0] ** 2 + c[1] ** 2)
     assert radius == pytest.approx(v / w, rel=0.05)
     assert np.std(np.linalg.norm(P - c[:2], axis=1)) < 0.01 * radius
+
+
+def test_compiled_gait_matches_the_python_gait(monkeypatch):
+    """``compiled.tripod_targets`` against ``Tripod.targets``' Python loop through ``leg_ik``
+    (the round trip above checks that one): 300 random phases, speeds and turn rates, the
+    stride limit reached, to 1e-12 rad; a foot out of reach raises the same error."""
+    from mjtether import compiled
+
+    pytest.importorskip("numba")
+    m = mujoco.MjModel.from_xml_path(str(ASSETS / "scene.xml"))
+    fast = Tripod().bind(m)
+    monkeypatch.setenv(compiled.KERNELS_ENV, "numpy")
+    slow = Tripod().bind(m)
+    assert fast._fast and not slow._fast
+    rng = np.random.default_rng(5)
+    for _ in range(300):
+        dt, v, w = rng.uniform(0.0, 0.7), rng.uniform(-0.8, 0.8), rng.uniform(-0.6, 0.6)
+        np.testing.assert_allclose(fast.targets(dt, v, w), slow.targets(dt, v, w), rtol=0, atol=1e-12)
+    for gait in (fast, slow):
+        gait.step_height = 5.0
+        with pytest.raises(ValueError, match="out of reach"):
+            for _ in range(20):
+                gait.targets(0.1, 0.0, 0.0)
