@@ -9,7 +9,7 @@ from .rigidbody import RigidBodyHydro, add_body_hydro
 from .simulation import BoundTether, Simulation, SimulationDiverged
 from .tether import TetherSpec
 from .units import KNOT, knots, to_knots
-from . import compiled, dispatch, mjlog, quasistatic, stability
+from . import compiled, dispatch, mjlog, native, quasistatic, rollouts, stability
 from .mjlog import MujocoWarning
 from .winch import Winch
 from .water import (

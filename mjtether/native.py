@@ -20,9 +20,9 @@ pointers in the C structs; their offsets are found once per process by matching 
 addresses of the NumPy views that MuJoCo's Python bindings give (``_offsets``), so they follow
 the installed MuJoCo. Rigid bodies use MuJoCo's own ``mj_objectVelocity`` and ``mj_applyFT``.
 
-**The loads** are ``compiled``'s kernels, the same functions the Python provider calls, so the
-two give the same numbers (``tests/test_native.py`` checks 1e-12 against the NumPy reference
-kernels and bit-for-bit against the Python provider).
+**The loads** are ``compiled``'s kernels, the functions the Python providers call with the
+compiled kernels; ``tests/test_native.py`` checks them against the NumPy reference kernels
+(1e-12) and a rollout against ``Simulation.step`` (1e-10).
 
 **Writes to the model.** The normal added mass (``added_mass="normal"``) and a vehicle's
 added mass turn tendons in ``model.wrap_prm`` at every step: threads that share one model would
@@ -57,7 +57,7 @@ TETHER, BODY, VEHICLE = 0, 1, 2
 SLOTS = 32
 """Rows of a provider's table: (address, length) of each of its arrays."""
 
-# the mjData / mjModel arrays the callback reads, in the order of _OFFS
+# the mjData / mjModel arrays the callback reads, in the order of offsets()
 _DATA_FIELDS = ("qvel", "qacc", "qfrc_passive", "flexvert_xpos", "userdata", "xpos", "xmat", "act")
 _MODEL_FIELDS = ("wrap_prm",)
 QVEL, QACC, QFRC, FLEXVERT, USERDATA, XPOS, XMAT, ACT, WRAP_PRM = range(9)
@@ -488,7 +488,7 @@ _state: dict[str, object] = {}
 def _link() -> None:
     """Once per process: find the struct offsets, make MuJoCo's library and ``_table`` known to
     the compiled code by name (so that it is cached on disk, and only the first run on a machine
-    compiles it, a few seconds)."""
+    compiles it, in about half a minute)."""
     if _state:
         return
     offs = _offsets()

@@ -14,7 +14,9 @@ Reports, for N = 200:
   (wall time per step of one trajectory; a batch of ``--batch`` rollouts on 2 threads shares the
   wall time), ``us_per_step_bare`` (MuJoCo's own step of the model, no callback);
 * ``speedup_2_threads``: one thread's wall time for the batch over two threads' (the goal is 1.8
-  on 2 cores), median of ``--repeat`` alternating rounds.
+  on 2 cores), median of ``--repeat`` alternating rounds; ``speedup_2_threads_bare``: the same for
+  MuJoCo alone (the callback removed, so the cable runs in vacuum: timing only), measured in the
+  same rounds: how far the machine lets two threads scale at all.
 
     python scripts/bench_rollout.py [--json] [--segments 200] [--steps 400] [--batch 8]
 """
@@ -22,11 +24,13 @@ Reports, for N = 200:
 from __future__ import annotations
 
 import argparse
+import copy
 import json
 import time
 
 import mujoco
 import numpy as np
+from mujoco import rollout
 
 import mjtether as mt
 from mjtether import rollouts
@@ -44,6 +48,19 @@ def make(N: int, dt: float) -> mt.Simulation:
     spec.option.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST
     tm = mt.add_tether(spec, tether, mt.FixedPoint(top), mt.FixedPoint(end), water=water, nodes=ss.nodes)
     return mt.Simulation(spec, water, [tm])
+
+
+def bare_rollout(sim: mt.Simulation, batch: np.ndarray, steps: int, nthread: int) -> float:
+    """Wall time (s) of the batch rolled out by MuJoCo alone (no passive callback) on ``nthread``."""
+    datas = [copy.copy(sim.data) for _ in range(nthread)]
+    with mt.dispatch.suspended():
+        t0 = time.perf_counter()
+        if nthread == 1:
+            rollout.rollout(sim.model, datas[0], batch, nstep=steps)
+        else:
+            with rollout.Rollout(nthread=nthread) as r:
+                r.rollout(sim.model, datas, batch, nstep=steps)
+        return time.perf_counter() - t0
 
 
 def main(argv=None):
@@ -75,7 +92,7 @@ def main(argv=None):
         one, _ = rollouts.rollout(sim, s0[None], nstep=steps)
         us_one = (time.perf_counter() - t0) / steps * 1e6
         batch = np.repeat(s0[None], args.batch, axis=0)
-        walls = {1: [], 2: []}
+        walls = {1: [], 2: [], "bare 1": [], "bare 2": []}
         worst = float(np.max(np.abs(one[0, :, 1:1 + nq] - want)))
         for _ in range(args.repeat):
             for nthread in (1, 2):
@@ -83,6 +100,7 @@ def main(argv=None):
                 out, _ = rollouts.rollout(sim, batch, nstep=steps, nthread=nthread)
                 walls[nthread].append(time.perf_counter() - t0)
                 worst = max(worst, float(np.max(np.abs(out[:, :, 1:1 + nq] - want[None]))))
+                walls[f"bare {nthread}"].append(bare_rollout(sim, batch, steps, nthread))
         # MuJoCo alone, from the same state
         mujoco.mj_setState(sim.model, sim.data, s0, rollouts.STATE)
         with mt.dispatch.suspended():
@@ -96,7 +114,8 @@ def main(argv=None):
            "us_per_step_simulation": round(us_sim, 1), "us_per_step_rollout_1_thread": round(us_one, 1),
            "us_per_step_rollout_2_threads": round(w2 / (args.batch * steps) * 1e6, 1),
            "us_per_step_bare": round(us_bare, 1),
-           "speedup_2_threads": round(w1 / w2, 2)}
+           "speedup_2_threads": round(w1 / w2, 2),
+           "speedup_2_threads_bare": round(float(np.median(walls["bare 1"]) / np.median(walls["bare 2"])), 2)}
     if args.json:
         print(json.dumps(out))
     else:

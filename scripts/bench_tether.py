@@ -113,7 +113,7 @@ def main(argv=None):
            # the whole step over it (medians of 5 alternating rounds from the same state)
            "bare_mj_step_us_N200": round(res[200]["us_bare"], 1),
            "cost_over_bare_N200": round(res[200]["over_bare"], 2),
-           "kernels": mt.compiled.backend()}
+           "kernels": mt.compiled.backend(), "callback": "native" if mt.native.available() else "python"}
     # cable parked on a drum must cost little: 10 % and 100 % of a 200-element tether deployed
     out["drum_us_per_step_10pct"] = round(run_deployed(0.1, dt), 1)
     out["drum_us_per_step_100pct"] = round(run_deployed(1.0, dt), 1)

@@ -58,11 +58,13 @@ RUNS: dict[str, tuple[list[str], str]] = {
     "bench_scenario": (["scripts/bench_scenario.py", "--check", "--json"], ""),
     "bench_scenario_vehicles": (["scripts/bench_scenario.py", "--vehicles", "--json"], "the vehicle cases"),
     "bench_tether": (["scripts/bench_tether.py", "--json"], ""),
+    "bench_rollout": (["scripts/bench_rollout.py", "--json"], ""),
+    "bench_kernel_choice": (["scripts/bench_kernel_choice.py", "--json"], ""),
     "bench_constructions": (["scripts/bench_constructions.py", "--json"], ""),
 }
 
 MARKER = re.compile(r"<!--bench:(?P<ref>[^>]*?)-->(?P<text>.*?)<!--/bench-->")
-REF = re.compile(r"(?P<name>[A-Za-z0-9_]+)(?P<sep>[.@])(?P<path>[A-Za-z0-9_.]+)(?::(?P<fmt>.*))?$")
+REF = re.compile(r"(?P<name>[A-Za-z0-9_]+)(?P<sep>[.@])(?P<path>[A-Za-z0-9_.-]+)(?::(?P<fmt>.*))?$")
 
 
 @dataclass
