@@ -6,7 +6,9 @@ code installed is replaced). A simulation registers its ``MjData`` here in one o
 * **native** (the default where numba runs): its loads are a force block of ``native``, keyed
   by its model; while every live simulation is native, the installed callback is
   ``native``'s compiled one, which MuJoCo calls itself on any thread. Every ``MjData`` of the
-  model gets the loads: ``mujoco.rollout``'s worker threads too.
+  model gets the loads, ``mujoco.rollout``'s worker threads' too, except where the loads write
+  to the model (a vehicle, the normal added mass): there only the simulation's own (see
+  ``native``; ``rollouts`` rolls such models out on copies).
 * **Python** (the NumPy reference kernels, or a provider the compiled kernels do not cover): a
   Python function called for its ``MjData``. While any such simulation is live the installed
   callback is ``_passive`` here, which runs the Python providers and the native blocks.
@@ -89,7 +91,7 @@ def register(data: mujoco.MjData, provider: Provider, model: mujoco.MjModel | No
         with suspended():  # (finding the struct offsets compiles two small models)
             native.offsets()
             native.callback()
-        native.register(model, block)
+        native.register(model, block, owner=data)
         _native[data._address] = model
         _providers[data._address] = [provider]
         _install()

@@ -25,10 +25,12 @@ compiled kernels; ``tests/test_native.py`` checks them against the NumPy referen
 (1e-12) and a rollout against ``Simulation.step`` (1e-10).
 
 **Writes to the model.** The normal added mass (``added_mass="normal"``) and a vehicle's
-added mass turn tendons in ``model.wrap_prm`` at every step: threads that share one model would
-race on them. ``rollouts.rollout`` gives each rollout its own copy of such a model; the block
-also records which ``mjData`` is inside the callback, and a second one entering at the same
-time (a threaded rollout of a shared model) gets NaN forces, not a silently wrong answer.
+added mass turn tendons in ``model.wrap_prm`` at every step, from the state of the ``mjData``
+being stepped: two ``mjData`` stepping one such model (threads, or turns) would each get the
+other's mass matrix. The block of such a model therefore has an *owner*, the simulation's own
+``mjData``: any other gets NaN forces (its states come back NaN, not silently wrong).
+``rollouts.rollout`` gives each rollout its own registered copy of such a model, which any one
+``mjData`` at a time may step.
 
 Units SI, world frame, as in ``compiled``.
 """
@@ -435,7 +437,7 @@ def _vehicle(mp, dp, table, offs):
 def passive(mp, dp, registry, offs):
     """Add the registered loads of model ``mp`` to ``qfrc_passive`` of data ``dp`` (addresses);
     nothing for a model not in ``registry`` (rows: model address, provider list address, number
-    of providers, address of the block's busy word)."""
+    of providers, address of the block's owner word: the only ``mjData`` allowed, -1 for any)."""
     r = -1
     for i in range(registry.shape[0]):
         if registry[i, 0] == mp:
@@ -443,14 +445,11 @@ def passive(mp, dp, registry, offs):
             break
     if r < 0 or registry[r, 1] == 0:
         return
-    busy = numba.carray(_i64(registry[r, 3]), (1,))
-    guarded = busy[0] != -1  # -1: the block never writes its model
-    if guarded:
-        if busy[0] != 0 and busy[0] != dp:  # another mjData of this model is inside: a race on the model
-            qfrc = numba.carray(_f64(_field(dp, offs, QFRC)), (1,))
-            qfrc[0] = np.nan
-            return
-        busy[0] = dp
+    owner = numba.carray(_i64(registry[r, 3]), (1,))[0]
+    if owner != -1 and owner != dp:  # another mjData on a model the loads write to: refused
+        qfrc = numba.carray(_f64(_field(dp, offs, QFRC)), (1,))
+        qfrc[0] = np.nan
+        return
     items = numba.carray(_i64(registry[r, 1]), (registry[r, 2], 2))
     for i in range(items.shape[0]):
         table = numba.carray(_i64(items[i, 1]), (SLOTS, 2))
@@ -460,8 +459,6 @@ def passive(mp, dp, registry, offs):
             _body(mp, dp, table, offs)
         else:
             _vehicle(mp, dp, table, offs)
-    if guarded:
-        busy[0] = 0
 
 
 @_jit
@@ -480,7 +477,7 @@ def _mjcb_passive(m, d):
 # --------------------------------------------------------------------------- registration
 
 _table = np.zeros((CAPACITY + 1, 4), dtype=np.int64)  # row 0: the struct offsets (room for 4 x 4)
-_registry = _table[1:]  # rows: model address, provider list address, providers, busy word address
+_registry = _table[1:]  # rows: model address, provider list address, providers, owner word address
 _blocks: dict[int, "Block"] = {}  # model address -> its block (kept alive here)
 _state: dict[str, object] = {}
 
@@ -528,12 +525,13 @@ class Block:
             self._keep.append(t)
             rows.append((kind, t.ctypes.data))
         self.items = np.array(rows, dtype=np.int64).reshape(-1, 2)
-        self.busy = np.array([0 if writes_model else -1], dtype=np.int64)
+        self.owner = np.array([-1], dtype=np.int64)  # see register
         self.writes_model = writes_model
 
 
-def register(model: mujoco.MjModel, block: Block) -> None:
-    """Apply ``block``'s loads to every ``mjData`` of ``model`` that MuJoCo steps."""
+def register(model: mujoco.MjModel, block: Block, owner: mujoco.MjData | None = None) -> None:
+    """Apply ``block``'s loads to every ``mjData`` of ``model`` that MuJoCo steps; with
+    ``owner``, and a block that writes its model, to ``owner`` only (the module docstring)."""
     free = np.flatnonzero(_registry[:, 0] == 0)
     if model._address in _blocks:
         raise RuntimeError("mjtether.native: this model is registered already")
@@ -543,20 +541,21 @@ def register(model: mujoco.MjModel, block: Block) -> None:
     offsets()
     r = int(free[0])
     _blocks[model._address] = block
-    _registry[r, 1:] = (block.items.ctypes.data, len(block.items), block.busy.ctypes.data)
+    block.owner[0] = owner._address if owner is not None and block.writes_model else -1
+    _registry[r, 1:] = (block.items.ctypes.data, len(block.items), block.owner.ctypes.data)
     _registry[r, 0] = model._address  # last: the row is complete before the callback can match it
 
 
 def register_copy(model: mujoco.MjModel, original: mujoco.MjModel) -> None:
-    """Give ``model`` (a copy of ``original``, e.g. one per rollout) ``original``'s loads. The
-    copy reads the block's state (payout) as the simulation has it now; unregister it when done."""
+    """Give ``model`` (a copy of ``original``, e.g. one per rollout) ``original``'s loads, for
+    any ``mjData`` (one at a time: a copy that the loads write to is one rollout's). The copy
+    reads the block's state (payout) as the simulation has it now; unregister it when done."""
     block = _blocks.get(original._address)
     if block is None:
         raise ValueError("mjtether.native: the original model is not registered")
-    # a copy of a model that writes itself gets a busy word of its own (no race with the original)
     copy = Block.__new__(Block)
     copy._keep, copy.items, copy.writes_model = [block], block.items, block.writes_model
-    copy.busy = np.array([0 if block.writes_model else -1], dtype=np.int64)
+    copy.owner = np.array([-1], dtype=np.int64)
     register(model, copy)
 
 

@@ -165,6 +165,34 @@ def test_vehicle_rollouts_on_two_threads_match_the_simulation():
         run.close()
 
 
+def test_a_shared_vehicle_model_is_refused_not_mixed_up():
+    """A vehicle's loads turn its added-mass tendons in the model from the state being stepped:
+    a plain ``mujoco.rollout`` of the simulation's own model (another MjData, on one thread or
+    two) would give each rollout the others' mass matrix. It is refused: its states come back
+    NaN; the simulation steps on unharmed and ``rollouts.rollout`` (a copy per rollout) works."""
+    import copy
+    import pathlib
+
+    root = pathlib.Path(__file__).resolve().parents[1]
+    sc = load_scenario(root / "examples/rov_umbilical.toml",
+                       overrides=["simulation.duration=1", "tether.seabed_friction=0"])
+    run = ScenarioRun(sc)
+    try:
+        sim = run.sim
+        s0 = rollouts.initial_state(sim)
+        for nthread in (1, 2):
+            datas = [copy.copy(sim.data) for _ in range(nthread)]
+            with rollout.Rollout(nthread=nthread) as r:
+                out, _ = r.rollout(sim.model, datas, np.repeat(s0[None], 4, axis=0), nstep=5)
+            assert np.isnan(out[:, -1, 1:1 + sim.model.nq]).all()
+        run.step()
+        assert np.all(np.isfinite(sim.data.qpos))
+        out, _ = rollouts.rollout(sim, np.repeat(rollouts.initial_state(sim)[None], 2, axis=0), nstep=5, nthread=2)
+        assert np.all(np.isfinite(out))
+    finally:
+        run.close()
+
+
 def test_rollouts_refuse_what_they_cannot_carry(monkeypatch):
     """The NumPy kernels (Python, which rollout threads cannot call) and seabed friction (stick
     points in userdata, which a rollout's state leaves out) are refused with the reason."""
