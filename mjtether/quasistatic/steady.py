@@ -368,11 +368,11 @@ class _Cable:
         return X, T, P
 
 
-def _lay(cable: _Cable, X, T, P, k, seabed_z, cb):
+def _lay(cable: _Cable, X, T, P, k, seabed_z, cb, end_only: bool = False):
     """Cut one march at the touchdown inside element ``k`` and lay the rest on the seabed.
 
     Returns (nodes, tension, bottom force, touchdown arc length, laid length, length of it at
-    zero tension)."""
+    zero tension); with ``end_only``, just the laid end (the last node, m: what a shot needs)."""
     pz0, pz1 = P[k, 2], P[k + 1, 2]
     phi = float(np.clip(-pz0 / (pz1 - pz0), 0.0, 1.0)) if pz1 != pz0 else 1.0
     x_td = X[k] + phi * (X[k + 1] - X[k])
@@ -396,6 +396,10 @@ def _lay(cable: _Cable, X, T, P, k, seabed_z, cb):
         uc = np.minimum(u, u0)
         return u + (H * uc - cb * w * uc * uc / 2) / cable.EA
 
+    if end_only:
+        x_lay = x_td.copy()
+        x_lay[2] = seabed_z
+        return x_lay + stretched(LB) * e
     N = cable.N
     s_nodes = np.arange(N + 1) * cable.l
     nodes = X.copy()
@@ -962,9 +966,9 @@ def _shoot(cable: _Cable, pb: dict, F: np.ndarray):
     for j in range(K):
         k = td[j]
         if pb["contact"] and k >= 0:
-            nodes, *_ = _lay(cable, X[j], T[j], P[j], k, pb["seabed_z"], pb["cb"])
+            end = _lay(cable, X[j], T[j], P[j], k, pb["seabed_z"], pb["cb"], end_only=True)
             phi = np.clip(-P[j, k, 2] / (P[j, k + 1, 2] - P[j, k, 2]), 0.0, 1.0)
-            r[j] = nodes[-1] - pb["bottom"]
+            r[j] = end - pb["bottom"]
             r[j, 2] = X[j, k, 2] + phi * (X[j, k + 1, 2] - X[j, k, 2]) - pb["seabed_z"]  # touchdown height
         else:
             r[j] = X[j, -1] - pb["bottom"]
