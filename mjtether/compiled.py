@@ -125,6 +125,17 @@ def _speed(kind, p, depth):
 
 
 @_jit
+def _current(ckind, cp, depth):
+    """Horizontal current (u_x, u_y), m/s, at ``depth`` (m, >= 0): ``water``'s profiles (the
+    tabulated one by components, the others as a speed along their heading)."""
+    if ckind == 4:
+        m = cp.shape[0] // 3
+        return _interp(depth, cp[:m], cp[m:2 * m]), _interp(depth, cp[:m], cp[2 * m:])
+    speed = _speed(ckind, cp, depth)
+    return speed * math.cos(cp[cp.shape[0] - 1]), speed * math.sin(cp[cp.shape[0] - 1])
+
+
+@_jit
 def element_water(x, dkind, dp, ckind, cp, rho, u):
     """Density ``rho`` (n,) and current ``u`` (n, 3) at the centres of the elements of the node
     polyline ``x`` (n+1, 3), at or below the surface (as ``hydro.tether_loads`` takes them)."""
@@ -290,14 +301,7 @@ def rigid_body_loads(R, p_cob, v_cob, omega, volume, height, drag_cd, drag_area,
         frac = 1.0 if zcob <= 0 else 0.0
     rho = _density(dkind, dp, depth)
     u = np.empty(3)
-    if ckind == 4:
-        m = cp.shape[0] // 3
-        u[0] = _interp(depth, cp[:m], cp[m:2 * m])
-        u[1] = _interp(depth, cp[:m], cp[2 * m:])
-    else:
-        speed = _speed(ckind, cp, depth)
-        u[0] = speed * math.cos(cp[cp.shape[0] - 1])
-        u[1] = speed * math.sin(cp[cp.shape[0] - 1])
+    u[0], u[1] = _current(ckind, cp, depth)
     u[2] = 0.0
     fb = np.empty(3)
     tb = np.empty(3)
@@ -351,14 +355,7 @@ def vehicle_wrench(nu, R, z, dkind, dp, ckind, cp, gravity, MA, keep, DL, fade, 
     depth = max(-z, 0.0)
     rho = _density(dkind, dp, depth)
     u = np.zeros(3)
-    if ckind == 4:
-        m = cp.shape[0] // 3
-        u[0] = _interp(depth, cp[:m], cp[m:2 * m])
-        u[1] = _interp(depth, cp[:m], cp[2 * m:])
-    else:
-        speed = _speed(ckind, cp, depth)
-        u[0] = speed * math.cos(cp[cp.shape[0] - 1])
-        u[1] = speed * math.sin(cp[cp.shape[0] - 1])
+    u[0], u[1] = _current(ckind, cp, depth)
     nr = np.empty(6)
     for k in range(3):
         nr[k] = nu[k] - (R[0, k] * u[0] + R[1, k] * u[1] + R[2, k] * u[2])
@@ -511,14 +508,7 @@ def _element_load(z0, t, l_s, l, d, A, mu, cdn, cdt_pi, float_cda, dkind, dp, ck
         l_wet = l * frac
     depth = max(-min(zc, 0.0), 0.0)
     rho = _density(dkind, dp, depth)
-    if ckind == 4:
-        m = cp.shape[0] // 3
-        u0 = _interp(depth, cp[:m], cp[m:2 * m])
-        u1 = _interp(depth, cp[:m], cp[2 * m:])
-    else:
-        speed = _speed(ckind, cp, depth)
-        u0 = speed * math.cos(cp[cp.shape[0] - 1])
-        u1 = speed * math.sin(cp[cp.shape[0] - 1])
+    u0, u1 = _current(ckind, cp, depth)
     u0, u1, u2 = u0 - v_tow[0], u1 - v_tow[1], 0.0 - v_tow[2]
     ut = u0 * t[0] + u1 * t[1] + u2 * t[2]
     n0, n1, n2 = u0 - ut * t[0], u1 - ut * t[1], u2 - ut * t[2]

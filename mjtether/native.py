@@ -130,32 +130,18 @@ def _mujoco_library() -> str:
 # --------------------------------------------------------------------------- the kernels
 
 if numba is not None:
-    @intrinsic
-    def _f64(typingctx, addr):
-        """The float64 pointer at integer address ``addr``."""
-        sig = types.CPointer(types.float64)(types.int64)
+    def _cast(target):
+        """An intrinsic: the integer address ``addr`` as a pointer of numba type ``target``."""
+        @intrinsic
+        def cast(typingctx, addr):
+            def codegen(context, builder, signature, args):
+                return builder.inttoptr(args[0], context.get_value_type(target))
+            return target(types.int64), codegen
+        return cast
 
-        def codegen(context, builder, signature, args):
-            return builder.inttoptr(args[0], context.get_value_type(types.CPointer(types.float64)))
-        return sig, codegen
-
-    @intrinsic
-    def _i64(typingctx, addr):
-        """The int64 pointer at integer address ``addr``."""
-        sig = types.CPointer(types.int64)(types.int64)
-
-        def codegen(context, builder, signature, args):
-            return builder.inttoptr(args[0], context.get_value_type(types.CPointer(types.int64)))
-        return sig, codegen
-
-    @intrinsic
-    def _void(typingctx, addr):
-        """The void pointer at integer address ``addr``."""
-        sig = types.voidptr(types.int64)
-
-        def codegen(context, builder, signature, args):
-            return builder.inttoptr(args[0], context.get_value_type(types.voidptr))
-        return sig, codegen
+    _f64 = _cast(types.CPointer(types.float64))  # float64 pointer
+    _i64 = _cast(types.CPointer(types.int64))  # int64 pointer
+    _void = _cast(types.voidptr)  # void pointer, for MuJoCo's functions
 
     @intrinsic
     def _address(typingctx, ptr):

@@ -126,17 +126,20 @@ def test_a_rollout_in_vacuum_would_be_far_off():
         assert np.max(np.abs(out[0, -1, 1:1 + sim.model.nq] - want)) > 0.3
 
 
-def test_vehicle_rollouts_on_two_threads_match_the_simulation():
-    """The ROV example's vehicle (whose callback turns its added-mass tendons in the model): four
-    rollouts on two threads, each on its own registered copy of the model, under recorded
-    thruster commands, against ``Simulation.step`` under the same commands (seabed friction off:
-    its stick points are state a rollout does not carry)."""
+def _rov_run() -> ScenarioRun:
+    """The ROV example, seabed friction off (its stick points are state a rollout does not carry)."""
     import pathlib
 
     root = pathlib.Path(__file__).resolve().parents[1]
-    sc = load_scenario(root / "examples/rov_umbilical.toml",
-                       overrides=["simulation.duration=1", "tether.seabed_friction=0"])
-    run = ScenarioRun(sc)
+    return ScenarioRun(load_scenario(root / "examples/rov_umbilical.toml",
+                                     overrides=["simulation.duration=1", "tether.seabed_friction=0"]))
+
+
+def test_vehicle_rollouts_on_two_threads_match_the_simulation():
+    """The ROV example's vehicle (whose callback turns its added-mass tendons in the model): four
+    rollouts on two threads, each on its own registered copy of the model, under recorded
+    thruster commands, against ``Simulation.step`` under the same commands."""
+    run = _rov_run()
     try:
         sim = run.sim
         for _ in range(20):
@@ -171,12 +174,8 @@ def test_a_shared_vehicle_model_is_refused_not_mixed_up():
     two) would give each rollout the others' mass matrix. It is refused: its states come back
     NaN; the simulation steps on unharmed and ``rollouts.rollout`` (a copy per rollout) works."""
     import copy
-    import pathlib
 
-    root = pathlib.Path(__file__).resolve().parents[1]
-    sc = load_scenario(root / "examples/rov_umbilical.toml",
-                       overrides=["simulation.duration=1", "tether.seabed_friction=0"])
-    run = ScenarioRun(sc)
+    run = _rov_run()
     try:
         sim = run.sim
         s0 = rollouts.initial_state(sim)
