@@ -125,6 +125,17 @@ def _speed(kind, p, depth):
 
 
 @_jit
+def _wet_fraction(z0, z1):
+    """``hydro.wet_fraction`` of one element with end heights ``z0``, ``z1`` (m): its submerged
+    fraction."""
+    lo, hi = min(z0, z1), max(z0, z1)
+    span = hi - lo
+    if span > 1e-12:
+        return min(max(-lo / span, 0.0), 1.0)
+    return 1.0 if lo <= 0.0 else 0.0
+
+
+@_jit
 def _current(ckind, cp, depth):
     """Horizontal current (u_x, u_y), m/s, at ``depth`` (m, >= 0): ``water``'s profiles (the
     tabulated one by components, the others as a speed along their heading)."""
@@ -182,12 +193,7 @@ def tether_loads(x, v, rest, diameter, cd_normal, cd_tangential, area, cd_area_f
             t[j] *= inv
         # the submerged fraction and the centre of the wet part (hydro.wet_fraction)
         z0, z1 = x[i, 2], x[i + 1, 2]
-        lo, hi = min(z0, z1), max(z0, z1)
-        span = hi - lo
-        if span > 1e-12:
-            frac = min(max(-lo / span, 0.0), 1.0)
-        else:
-            frac = 1.0 if lo <= 0.0 else 0.0
+        frac = _wet_fraction(z0, z1)
         c_low = 0.5 * frac
         centre[i] = c_low if z0 <= z1 else 1.0 - c_low
         for j in range(3):
@@ -499,13 +505,7 @@ def _element_load(z0, t, l_s, l, d, A, mu, cdn, cdt_pi, float_cda, dkind, dp, ck
         l_wet = l
     else:
         zc = min(0.5 * (z0 + z1), 0.0)
-        lo, hi = min(z0, z1), max(z0, z1)
-        span = hi - lo
-        if span > 1e-12:
-            frac = min(max(-lo / span, 0.0), 1.0)
-        else:
-            frac = 1.0 if lo <= 0.0 else 0.0
-        l_wet = l * frac
+        l_wet = l * _wet_fraction(z0, z1)
     depth = max(-min(zc, 0.0), 0.0)
     rho = _density(dkind, dp, depth)
     u0, u1 = _current(ckind, cp, depth)
