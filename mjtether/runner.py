@@ -114,7 +114,7 @@ class ScenarioRun:
                                          max_length=None if self.makeup is not None else self.winch.max_length,
                                          end_at=robot if self.walker or self.is_vehicle else None,
                                          added_mass=sc.tether.added_mass,
-                                         start_at=top if scene.vessel is not None else None)
+                                         start_at=top)  # (the fairlead's place: no compile to find it)
         self.sim = Simulation(spec, self.water, tethers=[self.tm] if self.tethered else [], bodies=scene.bodies)
         self.ship_pilot = None
         try:
