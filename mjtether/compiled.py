@@ -1,8 +1,12 @@
-"""Compiled twins of the per-step force kernels (numba), and which kernels a run uses.
+"""Compiled twins (numba) of the per-step force kernels, the steady march and the per-step
+bookkeeping, and which kernels a run uses.
 
-The NumPy kernels (``hydro.tether_loads``, ``hydro.bending_forces``, ``seabed.seabed_friction``
-and the profiles of ``water``) are the reference: they state the physics, and the tests check
-that these compiled loops give the same forces to 1e-12 relative (``tests/test_compiled.py``).
+The NumPy kernels (``hydro.tether_loads``, ``hydro.bending_forces``, ``seabed.seabed_friction``,
+the profiles of ``water``, ``quasistatic.steady``'s march and hang, ``walker.leg_ik`` and
+``simulation.BoundTether.update_slack``) are the reference: they state the physics, and the
+tests check that these compiled loops give the same numbers to 1e-12 relative
+(``tests/test_compiled.py``, ``tests/test_walker.py``; the native callback that calls the force
+kernels inside MuJoCo: ``native``, ``tests/test_native.py``).
 The loops exist for speed only: on a 200-element cable a NumPy kernel spends about 100 us per
 step in the overhead of some sixty small array operations, as much as MuJoCo's own step.
 

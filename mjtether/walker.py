@@ -109,7 +109,7 @@ class Tripod:
         self.actuators = np.array(acts)
         return self
 
-    def targets(self, dt: float, speed: float, turn_rate: float) -> list:
+    def targets(self, dt: float, speed: float, turn_rate: float):
         """Advance the phase by ``dt`` (s) and return the 18 target angles (rad) of
         ``self.actuators`` (leg by leg in ``LEGS`` order: coxa, femur, tibia). Scalar code:
         six legs are too few for NumPy to pay off, and this runs at the control rate; with the
