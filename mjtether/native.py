@@ -62,7 +62,8 @@ SLOTS = 32
 # the mjData / mjModel arrays the callback reads, in the order of offsets()
 _DATA_FIELDS = ("qvel", "qacc", "qfrc_passive", "flexvert_xpos", "userdata", "xpos", "xmat", "act")
 _MODEL_FIELDS = ("wrap_prm",)
-QVEL, QACC, QFRC, FLEXVERT, USERDATA, XPOS, XMAT, ACT, WRAP_PRM = range(9)
+QVEL, QACC, QFRC, FLEXVERT, USERDATA, XPOS, XMAT, ACT, WRAP_PRM, TIMESTEP = range(10)
+# (TIMESTEP: the word of mjModel's opt.timestep itself, a number, not a pointer)
 
 
 def available() -> bool:
@@ -95,8 +96,8 @@ def _scan(obj, fields: tuple[str, ...]) -> list[int]:
 
 
 def _offsets() -> np.ndarray:
-    """Word offsets of ``_DATA_FIELDS`` in mjData and ``_MODEL_FIELDS`` in mjModel, each checked
-    on two models of different sizes (every field non-empty)."""
+    """Word offsets of ``_DATA_FIELDS`` in mjData, ``_MODEL_FIELDS`` in mjModel and of mjModel's
+    ``opt.timestep``, each checked on two models of different sizes (every field non-empty)."""
     xml = """<mujoco><option gravity="0 0 -9.81"/><worldbody>{}</worldbody>
       <actuator><general joint="j0" dyntype="integrator"/></actuator>
       <tendon><fixed><joint joint="j0" coef="1"/></fixed></tendon>
@@ -111,10 +112,22 @@ def _offsets() -> np.ndarray:
             warnings.simplefilter("ignore")
             m = spec.compile()
         d = mujoco.MjData(m)
-        out.append(_scan(d, _DATA_FIELDS) + _scan(m, _MODEL_FIELDS))
+        m.opt.timestep = 0.00123456789 * n  # a value to find
+        out.append(_scan(d, _DATA_FIELDS) + _scan(m, _MODEL_FIELDS) + [_find_double(m, m.opt.timestep)])
     if out[0] != out[1]:
         raise RuntimeError("mjtether.native: MuJoCo's struct layout could not be read consistently")
     return np.array(out[0], dtype=np.int64)
+
+
+def _find_double(obj, value: float) -> int:
+    """Offset (in 8-byte words) of the float64 ``value`` in the first 4 KiB of the C struct
+    behind ``obj``: where an embedded number (``opt.timestep``) lives. Exactly one match."""
+    words = np.frombuffer(ctypes.string_at(obj._address, 4096), dtype=np.float64)
+    hits = np.flatnonzero(words == value)
+    if len(hits) != 1:
+        raise RuntimeError(f"mjtether.native: {type(obj).__name__}'s time step was not found; this MuJoCo is not "
+                           "supported by the native callback")
+    return int(hits[0])
 
 
 def _mujoco_library() -> str:
@@ -187,7 +200,7 @@ T_INT, T_REAL, T_STATE, T_REST, T_INERTIA, T_DIAMETER, T_CDN, T_CDT, T_AREA, T_C
 # T_INT: n, flex vertex address, first dof, seabed mode (0 none, 1 uniform weight, 2 per node,
 # 3 buoyant: none), stick-point userdata address, bending (0/1), density kind, current kind,
 # point loads (0/1), normal added-mass wrap address (-1: isotropic)
-# T_REAL: gravity, stick stiffness and damping per kg, weight per metre on the seabed, mu,
+# T_REAL: gravity, stick stiffness (times dt^2) and damping (times dt) per kg, weight per metre on the seabed, mu,
 # radius, contact tolerance, seabed point (3), seabed normal (3)
 # T_STATE: first deployed node, its share of the drum element, payout rate (m/s; 0 without drum)
 
@@ -246,8 +259,9 @@ def _tether(mp, dp, table, offs):
                 nf[:] = np.maximum(_vec(table, T_NODE_WET)[k:], 0.0)
             inertia = _vec(table, T_INERTIA)[k:]
             force, new = np.empty((m + 1, 3)), np.empty((m + 1, 3))
-            compiled.seabed_friction(x, v0, stick[k:], P[7:10], P[10:13], P[5], nf, P[4], P[1] * inertia,
-                                     P[2] * inertia, P[6], force, new)
+            dt = numba.carray(_f64(mp), (offs[TIMESTEP] + 1,))[offs[TIMESTEP]]  # (the model's, now)
+            compiled.seabed_friction(x, v0, stick[k:], P[7:10], P[10:13], P[5], nf, P[4], (P[1] / dt ** 2) * inertia,
+                                     (P[2] / dt) * inertia, P[6], force, new)
             stick[k:] = new
             f += force
     qfrc = numba.carray(_f64(_field(dp, offs, QFRC)), (dof0 + 3 * (n + 1),))
@@ -449,9 +463,11 @@ def passive(mp, dp, registry, offs):
 
 @_jit
 def _passive_here(mp, dp):
-    """``passive`` with this process's registry and offsets (the ``_table`` of ``_link``)."""
-    table = numba.carray(_i64(_registry_address()), (CAPACITY + 1, 4))
-    passive(mp, dp, table[1:], table[0])
+    """``passive`` with this process's offsets and registry (``_table``, found through ``_link``'s
+    symbol)."""
+    base = _registry_address()
+    passive(mp, dp, numba.carray(_i64(base + 8 * OFFSET_WORDS), (CAPACITY, 4)),
+            numba.carray(_i64(base), (OFFSET_WORDS,)))
 
 
 def _mjcb_passive(m, d):
@@ -462,8 +478,11 @@ def _mjcb_passive(m, d):
 
 # --------------------------------------------------------------------------- registration
 
-_table = np.zeros((CAPACITY + 1, 4), dtype=np.int64)  # row 0: the struct offsets (room for 4 x 4)
-_registry = _table[1:]  # rows: model address, provider list address, providers, owner word address
+OFFSET_WORDS = 16
+"""Words at the start of ``_table`` for the struct offsets (``offsets``)."""
+_table = np.zeros(OFFSET_WORDS + 4 * CAPACITY, dtype=np.int64)  # the offsets, then the registry
+_registry = _table[OFFSET_WORDS:].reshape(CAPACITY, 4)  # rows: model address, provider list address,
+# providers, owner word address
 _blocks: dict[int, "Block"] = {}  # model address -> its block (kept alive here)
 _state: dict[str, object] = {}
 
@@ -475,7 +494,9 @@ def _link() -> None:
     if _state:
         return
     offs = _offsets()
-    _table.ravel()[:len(offs)] = offs
+    if len(offs) > OFFSET_WORDS:
+        raise RuntimeError("mjtether.native: more struct offsets than OFFSET_WORDS")
+    _table[:len(offs)] = offs
     import llvmlite.binding as llvm
 
     llvm.load_library_permanently(_mujoco_library())
@@ -487,9 +508,9 @@ def _link() -> None:
 
 def offsets() -> np.ndarray:
     """Word offsets of the arrays the callback reads in mjData and mjModel (``_DATA_FIELDS``,
-    ``_MODEL_FIELDS``)."""
+    ``_MODEL_FIELDS``), and of mjModel's ``opt.timestep``."""
     _link()
-    return _table.ravel()[:len(_DATA_FIELDS) + len(_MODEL_FIELDS)]
+    return _table[:len(_DATA_FIELDS) + len(_MODEL_FIELDS) + 1]
 
 
 class Block:

@@ -300,9 +300,9 @@ class BoundTether:
         real[0] = self.water.gravity
         if self._seabed is not None:
             point, normal, w = self._seabed
-            dt = self.model.opt.timestep
             mode = 2 if mk is not None else (3 if w <= 0.0 else 1)
-            real[1:7] = (STICK_STIFFNESS / dt ** 2, 2.0 * STICK_DAMPING * math.sqrt(STICK_STIFFNESS) / dt, w,
+            # (over dt^2 and dt at each step: a pre-roll changes the time step)
+            real[1:7] = (STICK_STIFFNESS, 2.0 * STICK_DAMPING * math.sqrt(STICK_STIFFNESS), w,
                          float(self.tm.seabed_friction), self.spec.diameter / 2, CONTACT_TOLERANCE)
             real[7:10], real[10:13] = point, normal
         wrap = -1 if self._normal_prm is None else int(self.model.tendon_adr[self._normal_ten.start])

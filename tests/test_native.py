@@ -79,6 +79,15 @@ def test_native_loads_match_the_numpy_kernels(name):
         if name == "walker":  # (the case really pays out and touches down)
             t = run.sim.tether()
             assert t.payout_rate > 0 and np.isfinite(d.userdata).any()
+            # the friction's stick springs follow the model's time step (a settling pre-roll
+            # takes a quarter of it): the same at a changed step
+            run.sim.model.opt.timestep /= 4
+            d.userdata[:] = stick
+            mujoco.mj_forward(run.sim.model, d)
+            got = d.qfrc_passive.copy()
+            d.userdata[:] = stick
+            want = _reference(run.sim)
+            assert np.max(np.abs(got - want)) <= 1e-12 * np.max(np.abs(want))
     finally:
         run.close()
 
