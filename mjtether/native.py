@@ -67,8 +67,20 @@ QVEL, QACC, QFRC, FLEXVERT, USERDATA, XPOS, XMAT, ACT, WRAP_PRM, TIMESTEP = rang
 
 
 def available() -> bool:
-    """Whether the native callback can run here (numba imports, and the kernels are numba's)."""
-    return numba is not None and compiled.backend() == "numba"
+    """Whether the native callback can run here: numba imports, the kernels are numba's, and
+    this MuJoCo's structs could be read (else a warning says why, once, and the loads run in
+    Python, where MuJoCo's rollout threads cannot call them). Compiles two small probe models
+    the first time: call it where compiling is safe (``dispatch.suspended``)."""
+    if numba is None or compiled.backend() != "numba" or "unavailable" in _state:
+        return False
+    try:
+        _link()
+    except RuntimeError as exc:
+        _state["unavailable"] = str(exc)
+        warnings.warn(f"{exc}; the hydrodynamic loads run in Python instead (MJTETHER_KERNELS=numpy to silence "
+                      "this), and rollouts with them are refused", RuntimeWarning, stacklevel=2)
+        return False
+    return True
 
 
 # --------------------------------------------------------------------------- struct offsets
@@ -491,7 +503,7 @@ def _link() -> None:
     """Once per process: find the struct offsets, make MuJoCo's library and ``_table`` known to
     the compiled code by name (so that it is cached on disk, and only the first run on a machine
     compiles it, in about half a minute)."""
-    if _state:
+    if "registry getter" in _state:
         return
     offs = _offsets()
     if len(offs) > OFFSET_WORDS:

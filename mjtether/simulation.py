@@ -891,7 +891,9 @@ class Simulation:
         self._bad_acc0 = 0
         self._t_step = 0.0  # s, the time at the end of the step being taken
         self._worst = []  # what was furthest out after the last step (see check)
-        tables = [p.native_table() for p in self._providers] if native.available() else [None]
+        with dispatch.suspended():  # (the first call reads MuJoCo's structs from two small models)
+            ok = native.available()
+        tables = [p.native_table() for p in self._providers] if ok else [None]
         block = None
         if all(t is not None for t in tables):
             kinds = [native.TETHER] * len(self.tethers) + [native.VEHICLE if isinstance(b, BoundVehicle) else native.BODY

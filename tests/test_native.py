@@ -23,7 +23,7 @@ from mjtether.quasistatic import steady_state
 from mjtether.runner import ScenarioRun
 from mjtether.scenario import load_scenario
 
-pytestmark = pytest.mark.skipif(not native.available(), reason="numba is not installed")
+pytestmark = pytest.mark.skipif(compiled.numba is None, reason="numba is not installed")
 
 EXAMPLES = {
     "walker": None,  # the built-in scenario, paying out at 0.5 m/s: seabed friction, current, hydro
@@ -234,6 +234,25 @@ def test_a_pushing_rollout_element_is_reported():
         with pytest.warns(RuntimeWarning, match=r"element \d+ \(0 at the ship\) was taut, and shorter than its "
                                                 r"rest length: it pushed, at step 1 of rollout 0"):
             rollouts.rollout(sim, s0[None], nstep=5)
+
+
+def test_a_mujoco_whose_structs_cannot_be_read_falls_back_to_python(monkeypatch):
+    """Where the callback cannot find MuJoCo's struct fields (a future MuJoCo), a simulation
+    warns once and runs its loads in Python (the compiled kernels, called from Python), and
+    rollouts are refused."""
+    def unreadable():
+        raise RuntimeError("mjtether.native: the fields ['qvel'] were not found in MjData")
+
+    monkeypatch.setattr(native, "_state", {})
+    monkeypatch.setattr(native, "_offsets", unreadable)
+    with pytest.warns(RuntimeWarning, match="the hydrodynamic loads run in Python instead"):
+        sim = _taut(segments=10)
+    with sim:
+        assert not sim.native and sim.tethers["tether"]._fast is not None  # (compiled kernels, from Python)
+        sim.step(20)
+        assert np.all(np.isfinite(sim.data.qpos))
+        with pytest.raises(ValueError, match="run in Python"):
+            rollouts.rollout(sim, rollouts.initial_state(sim)[None], nstep=2)
 
 
 def test_a_model_that_is_not_mjtethers_is_left_alone():
