@@ -59,7 +59,17 @@ def rollout(sim: Simulation, initial_state, control=None, nstep: int | None = No
         if t._seabed is not None:
             raise ValueError(f"rollout: tether {name!r} has seabed friction, whose stick points (data.userdata) "
                              "are state that mujoco.rollout does not carry; step it with Simulation.run")
-    s0 = np.atleast_2d(np.asarray(initial_state, dtype=float))
+    if sim._closed:
+        raise ValueError("rollout: the simulation is closed")
+    size = mujoco.mj_stateSize(sim.model, STATE)
+    try:
+        s0 = np.atleast_2d(np.asarray(initial_state, dtype=float))
+    except (TypeError, ValueError):
+        raise ValueError(f"initial_state must be numbers, shape (nbatch, {size}) (rollouts.initial_state gives one), "
+                         f"got {type(initial_state).__name__}") from None
+    if s0.ndim != 2 or s0.shape[1] != size or len(s0) == 0 or not np.all(np.isfinite(s0)):
+        raise ValueError(f"initial_state must be finite, shape (nbatch >= 1, {size}) (rollouts.initial_state gives "
+                         f"one), got shape {s0.shape}" + ("" if np.all(np.isfinite(s0)) else " with NaN or inf"))
     nbatch = len(s0)
     writes = native._blocks[sim.model._address].writes_model
     models = [copy.copy(sim.model) for _ in range(nbatch)] if writes else sim.model

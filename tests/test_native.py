@@ -203,7 +203,8 @@ def test_a_shared_vehicle_model_is_refused_not_mixed_up():
 
 def test_rollouts_refuse_what_they_cannot_carry(monkeypatch):
     """The NumPy kernels (Python, which rollout threads cannot call) and seabed friction (stick
-    points in userdata, which a rollout's state leaves out) are refused with the reason."""
+    points in userdata, which a rollout's state leaves out) are refused with the reason; so are
+    bad arguments (thread count, a start of the wrong size, NaN or text) and a closed simulation."""
     monkeypatch.setenv(compiled.KERNELS_ENV, "numpy")
     with _taut(segments=10) as sim:
         assert not sim.native
@@ -218,6 +219,14 @@ def test_rollouts_refuse_what_they_cannot_carry(monkeypatch):
             rollouts.rollout(run.sim, rollouts.initial_state(run.sim)[None], nstep=2, nthread=0)
     finally:
         run.close()
+    with _taut(segments=10) as sim:
+        s0 = rollouts.initial_state(sim)
+        for bad, what in ((s0[None, :5], "got shape \\(1, 5\\)"), (np.full((1, len(s0)), np.nan), "with NaN or inf"),
+                          ("abc", "must be numbers")):
+            with pytest.raises(ValueError, match=f"initial_state .*{what}"):
+                rollouts.rollout(sim, bad, nstep=2)
+    with pytest.raises(ValueError, match="the simulation is closed"):
+        rollouts.rollout(sim, s0[None], nstep=2)
 
 
 def test_a_pushing_rollout_element_is_reported():
