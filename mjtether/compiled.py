@@ -735,3 +735,57 @@ def tether_extremes(v, stretch_from, rest):
         if s > smax:
             j, smax = b, s
     return i, vmax, j, smax
+
+
+@_jit
+def axial_scalar(EA, segment_length, inv_mass, timestep, damping_ratio, omega_dt, min_imp, max_imp):
+    """``builder.axial_scalar`` (EA = inf: inextensible): (S, B, d)."""
+    omega_cap = omega_dt / timestep
+    K = EA / max(segment_length, 1e-12)
+    x = min(max(omega_cap * omega_cap / (K * inv_mass), 1.0 - max_imp), 1.0 - min_imp)
+    S = min(K * x * inv_mass, omega_cap * omega_cap)
+    return S, 2.0 * damping_ratio * math.sqrt(S), 1.0 - x
+
+
+@_jit
+def drum_update(k, n, l0, mu, s, c, ap, i_ref, dof0, tadr, eq0, nten, EA, dt, zeta, omega_dt, min_imp, max_imp,
+                payout_rate, bids, rest, inertia, lead, K, body_mass, armature, invweight, ten_armature, eq_solref,
+                eq_solimp, eq_data, tendon_length0):
+    """``simulation.BoundTether._update_drum``: an ordinary payout step's bookkeeping of the
+    fairlead node ``k``, the first free node and the elements at them, written into the model's
+    arrays (``body_mass``, ``dof_armature``, ``tendon_invweight0``, ``tendon_armature`` from
+    ``nten`` on (-1: isotropic added mass), ``eq_solref``, ``eq_solimp``, ``eq_data``) and the
+    tether's own (``rest``, ``inertia``, ``lead``, ``K``). ``s`` the drum element's rest length
+    and ``c`` the fairlead's share of it (m), ``ap`` added mass per metre per element (kg/m)."""
+    rest[k] = s
+    right = l0 if k + 1 < n else 0.0
+    for which in range(2):
+        if which == 0:
+            i, mass, add = k, mu * c, ap[k] * c
+        else:
+            i = k + 1
+            mass = mu * ((s - c) + 0.5 * right)
+            add = ap[k] * (s - c) + (0.5 * ap[k + 1] * right if k + 1 < n else 0.0)
+        iso = max(i_ref - mass - add, 0.0) if (i == k or i == n) else 0.0
+        if nten < 0:
+            iso += add
+        else:
+            ten_armature[nten + 2 * i] = add
+            ten_armature[nten + 2 * i + 1] = add
+        iso = max(iso, 1e-9 * i_ref)
+        body_mass[bids[i]] = mass
+        dof = dof0 + 3 * i
+        armature[dof] = armature[dof + 1] = armature[dof + 2] = iso
+        inertia[i] = mass + iso
+    for j in range(k, min(k + 2, n)):
+        inv = 1.0 / inertia[j] + 1.0 / inertia[j + 1]
+        S, B, d = axial_scalar(EA, rest[j], inv, dt, zeta, omega_dt, min_imp, max_imp)
+        invweight[tadr + j] = inv
+        e = eq0 + j
+        eq_solref[e, 0] = -S
+        eq_solref[e, 1] = -B
+        eq_solimp[e, 0] = eq_solimp[e, 1] = d
+        lead[j] = B / S
+        K[j] = S / ((1.0 - d) * inv)
+    eq_data[eq0 + k, 0] = s + lead[k] * payout_rate - tendon_length0[tadr + k]
+

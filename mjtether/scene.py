@@ -144,15 +144,9 @@ def build_scene(sc: Scenario) -> Scene:
     at its start, if the robot is one) and the objects the run needs; the tether is added by the
     run."""
     water = water_from(sc)
-    dt = sc.simulation.timestep
-    spec = mujoco.MjSpec()
-    spec.option.timestep = dt
-    spec.option.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST
-    spec.option.gravity = [0.0, 0.0, -water.gravity]
-    spec.modelname = "mjtether_scenario"
     wsc = sc.water
     slope, slope_heading = math.radians(wsc.seabed_slope_deg), math.radians(wsc.seabed_slope_heading_deg)
-    builder.add_seabed(spec, water, friction=wsc.seabed_friction, slope=slope, slope_heading=slope_heading)
+    spec = seabed_spec(water, sc.simulation.timestep, wsc.seabed_friction, slope, slope_heading)
     ship = Ship.from_scenario(sc)
     r = sc.robot
     walker = r.type == "walker"
@@ -189,19 +183,35 @@ def vehicle_tow_point(scene: Scene) -> np.ndarray:
     return np.asarray(scene.sc.robot.position, dtype=float) + R.reshape(3, 3) @ np.asarray(scene.vehicle.tow_point)
 
 
+def seabed_spec(water: wm.WaterColumn, timestep: float, friction: float, slope: float = 0.0,
+                slope_heading: float = 0.0) -> mujoco.MjSpec:
+    """A scenario's spec before its ship and robot: the options (``timestep`` in s, the
+    implicit-fast integrator, the water's gravity) and the seabed (``builder.add_seabed``)."""
+    spec = mujoco.MjSpec()
+    spec.option.timestep = timestep
+    spec.option.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST
+    spec.option.gravity = [0.0, 0.0, -water.gravity]
+    spec.modelname = "mjtether_scenario"
+    builder.add_seabed(spec, water, friction=friction, slope=slope, slope_heading=slope_heading)
+    return spec
+
+
 def add_walker(scene: Scene) -> None:
-    """Attach the walker (``walker/`` prefix) at the scenario's start, its torso
-    ``WALKER_STAND_HEIGHT`` over the seabed, its legs square to a sloped seabed, facing the
-    commanded heading; with its rigid-body hydrodynamics."""
-    spec = scene.spec
+    """Attach the walker at the scenario's start, facing the commanded heading (see ``place_walker``)."""
     x, y = scene.sc.robot.start
-    yaw = scene.heading
+    scene.bodies.append(place_walker(scene.spec, (x, y, float(scene.seabed_z(x, y))), scene.heading))
+
+
+def place_walker(spec: mujoco.MjSpec, seabed_point, heading: float):
+    """Attach the walker (``walker/`` prefix) over ``seabed_point`` (m, world; on the seabed
+    geom ``seabed``), its torso ``WALKER_STAND_HEIGHT`` over the seabed, its legs square to a
+    sloped seabed, facing ``heading`` (rad from +x); returns its rigid-body hydrodynamics."""
     tilt = np.array(spec.geom("seabed").quat)
     quat = np.zeros(4)
-    mujoco.mju_mulQuat(quat, tilt, heading_quat(yaw))
+    mujoco.mju_mulQuat(quat, tilt, heading_quat(heading))
     normal = np.zeros(9)
     mujoco.mju_quat2Mat(normal, tilt)
-    pos = np.array([x, y, scene.seabed_z(x, y)]) + WALKER_STAND_HEIGHT * normal[[2, 5, 8]]
+    pos = np.asarray(seabed_point, dtype=float) + WALKER_STAND_HEIGHT * normal[[2, 5, 8]]
     frame = spec.worldbody.add_frame(pos=pos, quat=quat)
     frame.attach_body(walker_spec().body("torso"), "walker/", "")
-    scene.bodies.append(add_body_hydro(spec, "walker/torso", WALKER_HYDRO))
+    return add_body_hydro(spec, "walker/torso", WALKER_HYDRO)

@@ -14,7 +14,7 @@ import mujoco
 import numpy as np
 
 from . import compiled, dispatch, native
-from .builder import TETHER_CONTACT_BIT, TetherModel, axial_params, axial_scalar
+from .builder import AXIAL_OMEGA_DT, MAX_IMP, MIN_IMP, TETHER_CONTACT_BIT, TetherModel, axial_params, axial_scalar
 from .hydro import bending_forces, element_geometry, tether_loads
 from .rigidbody import BodyHydroModel, BoundBodyHydro, make_not_simple
 from .vehicle import BoundVehicle, VehicleModel
@@ -318,8 +318,19 @@ class BoundTether:
     def _update_drum(self) -> None:
         """``_update`` for an ordinary payout step (only the drum element's rest length changed):
         the same bookkeeping for the fairlead node, the first free node and the two elements at
-        them, in scalar arithmetic (this runs at every step of a paying-out winch)."""
+        them, in scalar arithmetic (this runs at every step of a paying-out winch); with the
+        compiled kernels, ``compiled.drum_update``."""
         m, k, n, l0, mu = self.model, self.first, self.n, self.l0, self._mu
+        if self._fast is not None:
+            EA = self.spec.EA
+            compiled.drum_update(k, n, l0, mu, self.drum_rest, self.fairlead_share, self._added_per_m, self._i_ref,
+                                 self._dof0, self.tadr, self.eq0,
+                                 -1 if self._normal_ten is None else self._normal_ten.start,
+                                 math.inf if EA is None else float(EA), m.opt.timestep, self.spec.axial_damping_ratio,
+                                 AXIAL_OMEGA_DT, MIN_IMP, MAX_IMP, self.payout_rate, self._bids, self._rest,
+                                 self._inertia, self._lead, self._K, m.body_mass, m.dof_armature, m.tendon_invweight0,
+                                 m.tendon_armature, m.eq_solref, m.eq_solimp, m.eq_data, m.tendon_length0)
+            return
         body_mass, armature, invweight = m.body_mass, m.dof_armature, m.tendon_invweight0
         ten_armature, nten = m.tendon_armature, (None if self._normal_ten is None else self._normal_ten.start)
         eq_solref, eq_solimp = m.eq_solref, m.eq_solimp

@@ -8,7 +8,7 @@ Units SI, world frame (z up, surface z = 0).
 from __future__ import annotations
 
 import math
-from dataclasses import replace
+from dataclasses import dataclass, replace
 
 import mujoco
 import numpy as np
@@ -17,7 +17,7 @@ from . import water as wm
 from .config import ConfigError
 from .controllers import CONTROL_HZ
 from .quasistatic import initial_state, steady_state
-from .scene import Scene
+from .scene import Scene, place_walker, seabed_spec
 from .simulation import Simulation
 from .walker import Tripod
 
@@ -33,53 +33,117 @@ FALLBACK_SUBSTEPS = 4
 """Pre-roll sub-steps per time step when the run starts from a guessed shape."""
 
 
+@dataclass(frozen=True)
+class Stand:
+    """The walker's resting pose after STAND_S on the seabed (``stand_walker``): its joints'
+    {(body, index in body): (qpos, qvel)}, the actuators' controls, the gait's phase, and the
+    torso's position (m), rotation matrix (3, 3) and the tow point (m) in the world."""
+
+    pose: dict
+    ctrl: np.ndarray
+    phase: float
+    torso: tuple
+    position: np.ndarray
+    rotation: np.ndarray
+    tow_point: np.ndarray
+
+
+_STANDS: dict = {}
+"""Stands already made, by ``_stand_key`` (a sweep or a repeated run stands the walker once)."""
+_STANDS_KEPT = 16
+
+
 def stand_walker(scene: Scene, gait_run: Tripod, dt: float):
-    """Let the walker stand (stepping in place) on the seabed for STAND_S without the tether,
-    with its hydrodynamics, then put it back at its commanded position and heading; returns
-    ({joint: (qpos, qvel)}, the actuators' controls, tow point (m, world)) of that pose, and
-    leaves ``gait_run`` (the run's gait) at the phase it stood in."""
-    spec = scene.spec
-    with Simulation(spec.copy(), scene.water, bodies=scene.bodies) as sim:
+    """Let the walker stand (stepping in place) on the seabed for STAND_S, alone with its
+    hydrodynamics in the scenario's water, then put it back at its commanded position and
+    heading; returns ({joint: (qpos, qvel)}, the actuators' controls, tow point (m, world)) of
+    that pose, and leaves ``gait_run`` (the run's gait) at the phase it stood in.
+
+    The stand depends on nothing but the seabed, the water, where the walker stands, its
+    heading, the time step and the gait: it is kept, and a run with the same ones (a sweep over
+    the tether, a repeated run) takes it as it is."""
+    key = _stand_key(scene, gait_run.period, dt)
+    stand = _STANDS.get(key) if key is not None else None
+    if stand is None:
+        stand = _stand(scene, gait_run.period, dt)
+        if key is not None:
+            while len(_STANDS) >= _STANDS_KEPT:
+                _STANDS.pop(next(iter(_STANDS)))
+            _STANDS[key] = stand
+    gait_run.phase = stand.phase  # the run goes on stepping from where it stood
+    return _put_back(stand, scene)
+
+
+def _stand_key(scene: Scene, period: float, dt: float):
+    """What a stand depends on (see ``stand_walker``), or None where that cannot be told (a
+    profile that cannot be hashed)."""
+    w = scene.sc.water
+    x, y = scene.sc.robot.start
+    key = (scene.water, w.seabed_friction, scene.slope, scene.slope_heading, float(x), float(y), scene.heading,
+           period, dt, STAND_S, CONTROL_HZ)
+    try:
+        hash(key)
+    except TypeError:
+        return None
+    return key
+
+
+def _stand(scene: Scene, period: float, dt: float) -> Stand:
+    """The walker alone on the scene's seabed at its start, stepping in place for STAND_S."""
+    x, y = scene.sc.robot.start
+    spec = seabed_spec(scene.water, dt, scene.sc.water.seabed_friction, scene.slope, scene.slope_heading)
+    hydro = place_walker(spec, (x, y, float(scene.seabed_z(x, y))), scene.heading)
+    with Simulation(spec, scene.water, bodies=[hydro]) as sim:
         m, d = sim.model, sim.data
-        gait = Tripod(period=gait_run.period).bind(m, prefix="walker/")
+        gait = Tripod(period=period).bind(m, prefix="walker/")
         every = max(1, int(round(1.0 / (CONTROL_HZ * dt))))
         for _ in range(max(1, int(round(STAND_S / (every * dt))))):
             d.ctrl[gait.actuators] = gait.targets(every * dt, 0.0, 0.0)
             sim.step(every)
-        # it may have turned or slid a little while its feet found the seabed: put it back at
-        # the commanded position and heading, turning it about the seabed's normal
-        torso = m.body("walker/torso")
-        adr = m.jnt_qposadr[torso.jntadr[0]]
-        tilt = np.array(spec.geom("seabed").quat)
-        normal = np.zeros(9)
-        mujoco.mju_quat2Mat(normal, tilt)
-        n = normal[[2, 5, 8]]
-        R = d.xmat[torso.id].reshape(3, 3)
-        fwd = R[:, 0] - (R[:, 0] @ n) * n  # the body's forward axis in the seabed's plane
-        want = np.array([math.cos(scene.heading), math.sin(scene.heading), 0.0])
-        want = want - (want @ n) * n
-        turn = math.atan2(np.cross(fwd, want) @ n, fwd @ want)
-        q_turn = np.zeros(4)
-        mujoco.mju_axisAngle2Quat(q_turn, n, turn)
-        q = np.zeros(4)
-        mujoco.mju_mulQuat(q, q_turn, d.qpos[adr + 3:adr + 7].copy())
-        x, y = scene.sc.robot.start
-        start = np.array([x, y, scene.seabed_z(x, y)])
-        p = d.qpos[adr:adr + 3].copy()
-        p = start + (p - start) @ n * n  # same height over the seabed, at the commanded place
-        d.qpos[adr:adr + 3], d.qpos[adr + 3:adr + 7] = p, q / np.linalg.norm(q)
-        d.qvel[:6] = 0.0
-        sim.forward()
+        sim.forward()  # (the positions of the last step's end)
         pose = {}
+        torso = m.body("walker/torso")
         for j in range(m.njnt):  # every joint of the walker's bodies, by (body, index in body)
             body = mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_BODY, int(m.jnt_bodyid[j])) or ""
             if body.startswith("walker/"):
                 adr, dof = m.jnt_qposadr[j], m.jnt_dofadr[j]
                 nq, nv = {0: (7, 6), 1: (4, 3), 2: (1, 1), 3: (1, 1)}[int(m.jnt_type[j])]
-                key = (body, j - int(m.body_jntadr[m.jnt_bodyid[j]]))
-                pose[key] = (d.qpos[adr:adr + nq].copy(), d.qvel[dof:dof + nv].copy())
-        gait_run.phase = gait.phase  # the run goes on stepping from where it stood
-        return pose, d.ctrl.copy(), d.site_xpos[m.site("walker/tow_point").id].copy()
+                pose[(body, j - int(m.body_jntadr[m.jnt_bodyid[j]]))] = (d.qpos[adr:adr + nq].copy(),
+                                                                        d.qvel[dof:dof + nv].copy())
+        return Stand(pose=pose, ctrl=d.ctrl.copy(), phase=gait.phase, torso=("walker/torso", 0),
+                     position=d.xpos[torso.id].copy(), rotation=d.xmat[torso.id].reshape(3, 3).copy(),
+                     tow_point=d.site_xpos[m.site("walker/tow_point").id].copy())
+
+
+def _put_back(stand: Stand, scene: Scene):
+    """``stand_walker``'s answer: the stand put back at the commanded position and heading (it
+    may have turned or slid a little while its feet found the seabed), turned about the
+    seabed's normal, its torso at rest."""
+    tilt = np.array(scene.spec.geom("seabed").quat)
+    normal = np.zeros(9)
+    mujoco.mju_quat2Mat(normal, tilt)
+    n = normal[[2, 5, 8]]
+    R = stand.rotation
+    fwd = R[:, 0] - (R[:, 0] @ n) * n  # the body's forward axis in the seabed's plane
+    want = np.array([math.cos(scene.heading), math.sin(scene.heading), 0.0])
+    want = want - (want @ n) * n
+    turn = math.atan2(np.cross(fwd, want) @ n, fwd @ want)
+    q_turn = np.zeros(4)
+    mujoco.mju_axisAngle2Quat(q_turn, n, turn)
+    R_turn = np.zeros(9)
+    mujoco.mju_quat2Mat(R_turn, q_turn)
+    R_turn = R_turn.reshape(3, 3)
+    pose = {k: (q.copy(), v.copy()) for k, (q, v) in stand.pose.items()}
+    q_torso, v_torso = pose[stand.torso]
+    x, y = scene.sc.robot.start
+    start = np.array([x, y, float(scene.seabed_z(x, y))])
+    p = start + ((stand.position - start) @ n) * n  # same height over the seabed, at the commanded place
+    q = np.zeros(4)
+    mujoco.mju_mulQuat(q, q_turn, q_torso[3:7])
+    q_torso[:3], q_torso[3:7] = p, q / np.linalg.norm(q)
+    v_torso[:] = 0.0
+    tow = p + R_turn @ (stand.tow_point - stand.position)
+    return pose, stand.ctrl.copy(), tow
 
 
 def steady_start(scene: Scene, top, robot, dt: float):

@@ -13,6 +13,7 @@ each 3-joint leg (coxa yaw, femur and tibia pitch). Units SI; body frame x forwa
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 from pathlib import Path
@@ -46,9 +47,15 @@ HYDRO = RigidBodyHydro(
 """Rigid-body hydrodynamics of the walker, on the torso (legs lumped in)."""
 
 
-def walker_spec() -> mujoco.MjSpec:
-    """The walker alone (its torso body is ``torso``, its tow point site ``tow_point``)."""
+@functools.cache
+def _parsed_walker() -> mujoco.MjSpec:
     return mujoco.MjSpec.from_file(str(ASSETS / "walker.xml"))
+
+
+def walker_spec() -> mujoco.MjSpec:
+    """The walker alone (its torso body is ``torso``, its tow point site ``tow_point``): a
+    copy of ``assets/walker.xml`` parsed once (a copy takes a tenth of a parse)."""
+    return _parsed_walker().copy()
 
 
 def leg_ik(p) -> tuple[float, float, float]:

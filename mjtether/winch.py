@@ -36,6 +36,7 @@ allowed (nothing deployed: a free drum pays out from there). Units SI.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -138,9 +139,11 @@ class Winch:
         (stiffness N/m, length rate m/s) (``"free"`` mode; None: the explicit law). A step that
         is not a positive number, or a non-finite tension or speed, is a ValueError: it would
         make the length NaN."""
-        _checks.positive("winch.advance dt", dt, "s")
-        tension = _checks.finite("winch.advance tension", tension)
-        robot_speed = _checks.finite("winch.advance robot_speed", robot_speed)
+        if not (type(dt) is float and type(tension) is float and type(robot_speed) is float and dt > 0.0
+                and math.isfinite(dt + tension + robot_speed)):  # (the checks, for anything else)
+            _checks.positive("winch.advance dt", dt, "s")
+            tension = _checks.finite("winch.advance tension", tension)
+            robot_speed = _checks.finite("winch.advance robot_speed", robot_speed)
         if self.mode == "tension":
             self._tension = tension if self._tension is None else \
                 self._tension + min(dt / TENSION_FILTER_S, 1.0) * (tension - self._tension)
@@ -156,9 +159,9 @@ class Winch:
         # acceleration-limited rate can follow it to zero), then limit the acceleration
         a_brake = 0.8 * self.max_accel
         if want > 0:
-            want = min(want, np.sqrt(2.0 * a_brake * max(self.max_length - self.length, 0.0)))
+            want = min(want, math.sqrt(2.0 * a_brake * max(self.max_length - self.length, 0.0)))
         else:
-            want = max(want, -np.sqrt(2.0 * a_brake * max(self.length - self.min_length, 0.0)))
+            want = max(want, -math.sqrt(2.0 * a_brake * max(self.length - self.min_length, 0.0)))
         step = self.max_accel * dt
         self.current_rate = _clip(want, self.current_rate - step, self.current_rate + step)
         self.length = _clip(self.length + self.current_rate * dt, self.min_length, self.max_length)

@@ -42,6 +42,16 @@ and say which here:
   ``walker_ship_follows`` by up to 4 of 24 (elements of a laid cable at zero tension switch on
   thresholds; its forces moved by 1.3e-8); every other column by at most 6e-4 of its largest
   value (columns that are zero to rounding, below 1e-9, moved by rounding).
+* the walker stands alone on a scene of its own (the seabed, the water and the walker: no
+  ship), its stand is kept for runs with the same seabed, water, start and gait
+  (``start.stand_walker``), and it is put back at its commanded place from the positions at
+  the stand's end (before, the heading was read from the kinematics of the stand's last step,
+  one step behind). The walker runs moved: their ship and tow forces by at most 5e-5 of the
+  largest, element tensions by at most 3.7 N of 1450 N (``default_walker``'s gait jerking a
+  laid element), ``walker_up_slope``'s body-frame cable moment by 8e-3 N m of 0.3 N m and its
+  tangle monitor's near-contact clearance by 0.2 mm, the count of slack elements and plan
+  crossings by a few (elements and crossings at thresholds); the environments' observations
+  by at most 3e-3 of 812. Every other run unchanged bit for bit.
 
     python tests/golden.py   # rewrites tests/data/golden_runs.npz
 """

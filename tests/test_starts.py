@@ -106,3 +106,43 @@ def test_follow_winch_does_not_pay_out_for_a_standing_walker():
         assert abs(run.winch.length - start) < 1.0 / 60.0
     finally:
         run.close()
+
+
+
+def test_a_run_with_the_same_stand_takes_it_as_it_is():
+    """The walker's stand (``start.stand_walker``) is kept: a second run of the same seabed,
+    water, start and gait, here with another tether, takes it without standing the walker again
+    and starts from the same standing pose and tow point, bit for bit, as a run that stood it
+    afresh; a run elsewhere or in another current stands it again."""
+    from mjtether import start as st
+
+    def pose_after_start(overrides):
+        """(the walker's standing pose, every joint's qpos in one array; the tow point it gave
+        the steady state, m)."""
+        run = ScenarioRun(load_scenario(overrides=["simulation.duration=1.0", *overrides]))
+        try:
+            return np.concatenate([q for q, _ in run.stand_pose.values()]), run.robot_position
+        finally:
+            run.close()
+
+    st._STANDS.clear()
+    fresh = pose_after_start(["tether.segments=60"])
+    assert len(st._STANDS) == 1
+    stood = []
+    was = st._stand
+    st._stand = lambda *a: stood.append(a) or was(*a)
+    try:
+        kept = pose_after_start(["tether.segments=61"])  # (another tether: another model)
+        assert not stood and len(st._STANDS) == 1
+        np.testing.assert_array_equal(kept[0], fresh[0])
+        np.testing.assert_array_equal(kept[1], fresh[1])
+        st._STANDS.clear()
+        again = pose_after_start(["tether.segments=61"])  # the same run with its stand made afresh
+        assert len(stood) == 1
+        np.testing.assert_array_equal(again[0], kept[0])
+        np.testing.assert_array_equal(again[1], kept[1])
+        pose_after_start(["tether.segments=61", "water.current.speed=0.5"])
+        pose_after_start(["tether.segments=61", "robot.start=[61.0, 40.0]"])
+        assert len(stood) == 3 and len(st._STANDS) == 3
+    finally:
+        st._stand = was

@@ -182,6 +182,7 @@ class _Cable:
     def __init__(self, tether, water: WaterColumn, tow_velocity, EA):
         self.g = water.gravity
         self.water = water
+        self._wet_at = {}  # seabed height (m): wet weight per metre there (N/m), see seabed_wet_weight
         self.v_tow = np.asarray(tow_velocity, dtype=float)
         self.float_cda = None  # normal drag area of distributed floats per metre, per element
         self.node_loads = None  # (mass, volume, cd_area) per node, where any
@@ -247,6 +248,13 @@ class _Cable:
         f = lambda a: np.ascontiguousarray(np.broadcast_to(a, (self.N,)), dtype=float)  # noqa: E731
         return (f(self.l_e), f(self.EA_e), f(self.d_e), f(self.A_e), f(self.mu_e), f(self.cdn_e), f(self.cdt_pi_e),
                 f(0.0 if self.float_cda is None else self.float_cda), *codes, self.v_tow.astype(float), float(self.g))
+
+    def seabed_wet_weight(self, seabed_z: float) -> float:
+        """Submerged weight per metre (N/m) of the uniform line on a seabed at ``seabed_z`` (m)."""
+        w = self._wet_at.get(seabed_z)
+        if w is None:
+            w = self._wet_at[seabed_z] = (self.mu - float(self.water.rho(np.array([seabed_z]))[0]) * self.A) * self.g
+        return w
 
     def seabed_weight(self, mass, volume):
         """Submerged weight (N or N/m) of ``mass`` and ``volume`` at the seabed's density."""
@@ -368,20 +376,26 @@ class _Cable:
         return X, T, P
 
 
+def _touchdown_fraction(P, k: int) -> float:
+    """Where in element ``k`` of a march the vertical force ``P[:, 2]`` (N) crosses zero: the
+    touchdown, as a fraction of the element (0 at node k, 1 at node k+1)."""
+    pz0, pz1 = float(P[k, 2]), float(P[k + 1, 2])
+    return min(max(-pz0 / (pz1 - pz0), 0.0), 1.0) if pz1 != pz0 else 1.0
+
+
 def _lay(cable: _Cable, X, T, P, k, seabed_z, cb, end_only: bool = False):
     """Cut one march at the touchdown inside element ``k`` and lay the rest on the seabed.
 
     Returns (nodes, tension, bottom force, touchdown arc length, laid length, length of it at
     zero tension); with ``end_only``, just the laid end (the last node, m: what a shot needs)."""
-    pz0, pz1 = P[k, 2], P[k + 1, 2]
-    phi = float(np.clip(-pz0 / (pz1 - pz0), 0.0, 1.0)) if pz1 != pz0 else 1.0
+    phi = _touchdown_fraction(P, k)
     x_td = X[k] + phi * (X[k + 1] - X[k])
     s_td = (k + phi) * cable.l
-    p_td = P[k] + phi * (P[k + 1] - P[k])
-    H = math.hypot(p_td[0], p_td[1])
-    e = np.array([p_td[0], p_td[1], 0.0]) / max(H, 1e-300)
+    px, py = (float(P[k, i]) + phi * (float(P[k + 1, i]) - float(P[k, i])) for i in range(2))
+    H = math.hypot(px, py)
+    e = np.array([px, py, 0.0]) / max(H, 1e-300)
     LB = max(cable.L - s_td, 0.0)
-    w = (cable.mu - float(cable.water.rho(np.array([seabed_z]))[0]) * cable.A) * cable.g
+    w = cable.seabed_wet_weight(seabed_z)
 
     def tension_at(u):  # u: unstretched distance from the touchdown along the seabed
         return np.maximum(H - cb * max(w, 0.0) * u, 0.0)
@@ -399,7 +413,7 @@ def _lay(cable: _Cable, X, T, P, k, seabed_z, cb, end_only: bool = False):
     if end_only:
         x_lay = x_td.copy()
         x_lay[2] = seabed_z
-        return x_lay + stretched(LB) * e
+        return x_lay + float(stretched(LB)) * e
     N = cable.N
     s_nodes = np.arange(N + 1) * cable.l
     nodes = X.copy()
@@ -967,7 +981,7 @@ def _shoot(cable: _Cable, pb: dict, F: np.ndarray):
         k = td[j]
         if pb["contact"] and k >= 0:
             end = _lay(cable, X[j], T[j], P[j], k, pb["seabed_z"], pb["cb"], end_only=True)
-            phi = np.clip(-P[j, k, 2] / (P[j, k + 1, 2] - P[j, k, 2]), 0.0, 1.0)
+            phi = _touchdown_fraction(P[j], k)
             r[j] = end - pb["bottom"]
             r[j, 2] = X[j, k, 2] + phi * (X[j, k + 1, 2] - X[j, k, 2]) - pb["seabed_z"]  # touchdown height
         else:
