@@ -29,6 +29,10 @@ STAND_S = 2.0
 """Seconds the walker stands alone on the seabed to find its resting pose before the run is built."""
 SETTLE_S = 10.0
 """Seconds a ``start = "settle"`` run lets the cable fall into place with the robot held."""
+REFINE_START = (1, 2, 4)
+"""Element counts, in multiples of the tether's, that the steady start is solved with in turn
+until Newton converges (``_solve_start``): where the touchdown sits in a coarse element the
+shot map is too rugged for Newton."""
 FALLBACK_SUBSTEPS = 4
 """Pre-roll sub-steps per time step when the run starts from a guessed shape."""
 
@@ -196,10 +200,10 @@ def steady_start(scene: Scene, top, robot, dt: float):
 def _solve_start(scene: Scene, water, top, robot, dt, length=None):
     """``quasistatic.initial_state`` for the scenario's tether, with retries: the laid part's tension
     has a kink where seabed friction takes it all, and a coarse tether's touchdown jumps
-    from element to element; either can stall Newton. So: as given; with 4N elements,
-    keeping every 4th node (the same material points); then both without friction (the
-    run then starts with the friction the laid cable's geometry needs, up to mu w: see
-    ``BoundTether.preload_friction``).
+    from element to element; either can stall Newton. So: as given; with 2N, then 4N
+    elements (``REFINE_START``), keeping every 2nd or 4th node (the same material points);
+    then all without friction (the run then starts with the friction the laid cable's
+    geometry needs, up to mu w: see ``BoundTether.preload_friction``).
     Returns (state, note) or (None, why)."""
     cb = scene.sc.tether.seabed_friction
     if scene.makeup is not None:
@@ -209,10 +213,11 @@ def _solve_start(scene: Scene, water, top, robot, dt, length=None):
     layout = dict(layout=sim.laid_layout, layout_angle=math.radians(sim.laid_layout_angle_deg))
     if scene.walker:  # slack cable lies back along the walker's track
         layout["layout_direction"] = (-math.cos(scene.heading), -math.sin(scene.heading))
-    n4 = f" solved with {4 * spec.segments} elements"
-    tries = [(1, cb, ""), (4, cb, n4)]
-    if cb > 0:
-        tries += [(1, 0.0, " without seabed friction"), (4, 0.0, n4 + " without seabed friction")]
+    tries = []
+    for friction in (cb, 0.0) if cb > 0 else (cb,):
+        for k in REFINE_START:
+            how = f" solved with {k * spec.segments} elements" if k > 1 else ""
+            tries.append((k, friction, how + (" without seabed friction" if friction != cb else "")))
     first = None
     for k, friction, how in tries:
         try:

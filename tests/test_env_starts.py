@@ -15,12 +15,16 @@ def test_randomised_resets_start_upright(env_id, resets):
     """Randomised resets (the issue's 100 of TetherWinch-v0, seeds 0-99, and 30 more of
     TetheredWalker-v0, which builds the same start around a different goal): at every step
     (0.1 s) of the first 5 s, with the winch stopped, the walker is within 2 deg of upright and
-    of its commanded heading (the issue's requirement; measured at most 0.5 deg and 0.9 deg)."""
+    of its commanded heading (the issue's requirement; measured at most 0.5 deg and 0.9 deg).
+    Every one starts from the quasi-static steady state, none from the settling fallback (seed
+    93 of TetherWinch-v0 settled for want of one until ``start.REFINE_START`` tried 2N)."""
     env = gym.make(env_id).unwrapped
-    worst = []
+    worst, settled = [], []
     try:
         for seed in range(resets):
             env.reset(seed=seed)
+            if not env.runner.initial_note.startswith("quasi-static steady state"):
+                settled.append((seed, env.runner.initial_note))
             errors = [pose_errors(env.runner)]
             for _ in range(50):
                 env.step(np.zeros(env.action_space.shape, dtype=np.float32))
@@ -30,6 +34,7 @@ def test_randomised_resets_start_upright(env_id, resets):
         env.close()
     worst = np.array(worst)
     assert worst[:, 0].max() <= 2.0 and worst[:, 1].max() <= 2.0, worst.max(axis=0)
+    assert not settled, settled
 
 
 @pytest.mark.slow
