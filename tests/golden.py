@@ -52,6 +52,11 @@ and say which here:
   tangle monitor's near-contact clearance by 0.2 mm, the count of slack elements and plan
   crossings by a few (elements and crossings at thresholds); the environments' observations
   by at most 3e-3 of 812. Every other run unchanged bit for bit.
+* the steady state's first guess adds the top's share of the current's drag
+  (``steady._drag_share``): every start with a current moved within the solver's tolerance,
+  the runs by at most 4e-5 of a column's largest value (``default_walker``'s ship force), a
+  laid element's tension by 3.2 N of 1450 N at the end of ``default_walker`` (its gait jerking
+  it); columns that are zero to rounding (below 1e-15) moved by rounding.
 
     python tests/golden.py   # rewrites tests/data/golden_runs.npz
 """

@@ -1010,21 +1010,41 @@ def _force_scale(cable: _Cable, top, bottom) -> float:
 
 def _first_guess(cable: _Cable, top, bottom, contact: bool = False, cb: float = 0.0,
                  top_contact: bool = False) -> np.ndarray:
-    """The analytic catenary's top force (no current, mean density), when it applies; else half
-    the weight down plus the force scale along the chord."""
+    """The analytic catenary's top force (no current, mean density), when it applies, else half
+    the weight down plus the force scale along the chord; with the top's share of the current's
+    drag added (``_drag_share``)."""
     if cable.makeup is not None:
-        return _first_guess_makeup(cable, top, bottom, contact, cb, top_contact)
+        return _first_guess_makeup(cable, top, bottom, contact, cb, top_contact) + _drag_share(cable, top, bottom)
     d = bottom - top
     w = (cable.mu - float(cable.water.rho(np.array([0.5 * (top[2] + bottom[2])]))[0]) * cable.A) * cable.g
     if w > 0 and top[2] >= bottom[2] and np.hypot(d[0], d[1]) > 1e-6 * cable.L:
         try:
             c = catenary(bottom, top, cable.L, w, EA=None if cable.EA == math.inf else cable.EA, cb=cb,
                          seabed=contact)
-            return c.fairlead_force
+            return c.fairlead_force + _drag_share(cable, top, bottom)
         except (ValueError, RuntimeError):
             pass
     return 0.5 * abs(w) * cable.L * np.array([0.0, 0.0, -1.0]) + d / max(np.linalg.norm(d), 1e-9) * 0.5 * \
-        _force_scale(cable, top, bottom)
+        _force_scale(cable, top, bottom) + _drag_share(cable, top, bottom)
+
+
+def _drag_share(cable: _Cable, top, bottom, samples: int = 64) -> np.ndarray:
+    """The top's share (N) of the current's normal drag on a vertical line from the top's depth
+    to the bottom's: drag per metre 1/2 rho C_dn d |u| u (u the current less the tow velocity,
+    horizontal), shared between the ends by the lever rule. A first guess only: with a strong
+    surface current the top holds several times the still-water catenary's horizontal force,
+    and a shot from the catenary's force alone can land on the wrong side of the map's jump
+    where the first element's far end leaves the water (``_solve_top_force``)."""
+    z_t, z_b = min(float(top[2]), 0.0), min(float(bottom[2]), 0.0)
+    if z_t - z_b <= 1e-9:
+        return np.zeros(3)
+    z = np.linspace(z_b, z_t, samples)
+    u = np.asarray(cable.water.velocity(z), float) - cable.v_tow
+    u[:, 2] = 0.0
+    cd_d = float(np.sum(cable.cdn_e * cable.d_e * cable.l_e) / np.sum(cable.l_e))
+    q = 0.5 * np.asarray(cable.water.rho(z), float)[:, None] * cd_d * np.linalg.norm(u, axis=1)[:, None] * u
+    share = ((z - z_b) / (z_t - z_b))[:, None] * q
+    return np.trapezoid(share, z, axis=0)
 
 
 def _first_guess_makeup(cable: _Cable, top, bottom, contact: bool, cb: float, top_contact: bool) -> np.ndarray:
