@@ -40,11 +40,12 @@ FALLBACK_SUBSTEPS = 4
 @dataclass(frozen=True)
 class Stand:
     """The walker's resting pose after STAND_S on the seabed (``stand_walker``): its joints'
-    {(body, index in body): (qpos, qvel)}, the actuators' controls, the gait's phase, and the
-    torso's position (m), rotation matrix (3, 3) and the tow point (m) in the world."""
+    {(body, index in body): (qpos, qvel)}, its actuators' controls {name: ctrl}, the gait's
+    phase, and the torso's position (m), rotation matrix (3, 3) and the tow point (m) in the
+    world."""
 
     pose: dict
-    ctrl: np.ndarray
+    ctrl: dict
     phase: float
     torso: tuple
     position: np.ndarray
@@ -60,7 +61,7 @@ _STANDS_KEPT = 16
 def stand_walker(scene: Scene, gait_run: Tripod, dt: float):
     """Let the walker stand (stepping in place) on the seabed for STAND_S, alone with its
     hydrodynamics in the scenario's water, then put it back at its commanded position and
-    heading; returns ({joint: (qpos, qvel)}, the actuators' controls, tow point (m, world)) of
+    heading; returns ({joint: (qpos, qvel)}, {actuator: control}, tow point (m, world)) of
     that pose, and leaves ``gait_run`` (the run's gait) at the phase it stood in.
 
     The stand depends on nothing but the seabed, the water, where the walker stands, its
@@ -114,7 +115,8 @@ def _stand(scene: Scene, period: float, dt: float) -> Stand:
                 nq, nv = {0: (7, 6), 1: (4, 3), 2: (1, 1), 3: (1, 1)}[int(m.jnt_type[j])]
                 pose[(body, j - int(m.body_jntadr[m.jnt_bodyid[j]]))] = (d.qpos[adr:adr + nq].copy(),
                                                                         d.qvel[dof:dof + nv].copy())
-        return Stand(pose=pose, ctrl=d.ctrl.copy(), phase=gait.phase, torso=("walker/torso", 0),
+        ctrl = {mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_ACTUATOR, a): float(d.ctrl[a]) for a in range(m.nu)}
+        return Stand(pose=pose, ctrl=ctrl, phase=gait.phase, torso=("walker/torso", 0),
                      position=d.xpos[torso.id].copy(), rotation=d.xmat[torso.id].reshape(3, 3).copy(),
                      tow_point=d.site_xpos[m.site("walker/tow_point").id].copy())
 
@@ -147,7 +149,7 @@ def _put_back(stand: Stand, scene: Scene):
     q_torso[:3], q_torso[3:7] = p, q / np.linalg.norm(q)
     v_torso[:] = 0.0
     tow = p + R_turn @ (stand.tow_point - stand.position)
-    return pose, stand.ctrl.copy(), tow
+    return pose, dict(stand.ctrl), tow
 
 
 def steady_start(scene: Scene, top, robot, dt: float):
@@ -332,7 +334,8 @@ def preroll(run, settle: bool) -> None:
             j = m.body_jntadr[m.body(body).id] + k
             d.qpos[m.jnt_qposadr[j]:m.jnt_qposadr[j] + len(q)] = q
             d.qvel[m.jnt_dofadr[j]:m.jnt_dofadr[j] + len(v)] = v
-        d.ctrl[:] = run.stand_ctrl
+        for name, u in run.stand_ctrl.items():  # (the walker's: a vessel's thrusters are the pilot's)
+            d.ctrl[m.actuator(name).id] = u
         sim.forward()
     sub = 1 if not settle else FALLBACK_SUBSTEPS
     m.opt.timestep = dt / sub

@@ -146,3 +146,16 @@ def test_a_run_with_the_same_stand_takes_it_as_it_is():
         assert len(stood) == 3 and len(st._STANDS) == 3
     finally:
         st._stand = was
+
+
+def test_a_walker_behind_a_surface_vessel_starts_upright():
+    """The walker on 80 m of tether from an Otter USV (``ship.vessel``: a floating body with
+    thrusters of its own, flown by its autopilot). Its stand is made without the vessel, so
+    the run takes the stand's controls by actuator name, not by position (the model has the
+    vessel's two thrusters too: a whole-vector copy failed); then the first 5 s keep it within
+    2 deg of upright and of its heading, as every example does."""
+    sc = load_scenario(overrides=["ship.vessel='otter'", "water.depth=50.0", "tether.length=80.0",
+                                  "tether.segments=20", "robot.start=[30.0, 0.0]", "simulation.duration=5.0"])
+    errors, _ = check_upright(sc)
+    errors = np.array(errors)
+    assert errors[:, 0].max() <= 2.0 and errors[:, 1].max() <= 2.0, errors.max(axis=0)
