@@ -109,6 +109,7 @@ import math
 from dataclasses import dataclass, field, replace
 
 import numpy as np
+from scipy.integrate import trapezoid
 
 from .. import _checks, compiled
 from ..hydro import morison_drag, wet_fraction
@@ -1044,7 +1045,7 @@ def _drag_share(cable: _Cable, top, bottom, samples: int = 64) -> np.ndarray:
     cd_d = float(np.sum(cable.cdn_e * cable.d_e * cable.l_e) / np.sum(cable.l_e))
     q = 0.5 * np.asarray(cable.water.rho(z), float)[:, None] * cd_d * np.linalg.norm(u, axis=1)[:, None] * u
     share = ((z - z_b) / (z_t - z_b))[:, None] * q
-    return np.trapezoid(share, z, axis=0)
+    return trapezoid(share, z, axis=0)
 
 
 def _first_guess_makeup(cable: _Cable, top, bottom, contact: bool, cb: float, top_contact: bool) -> np.ndarray:
