@@ -10,6 +10,7 @@ Units SI, world frame; headings in radians from +x towards +y.
 
 from __future__ import annotations
 
+import bisect
 import math
 from dataclasses import dataclass, field
 
@@ -95,7 +96,7 @@ class WinchDrive:
         self.winch = winch
 
     def update(self, run, t: float, dt: float) -> None:
-        tension = run.bt.end_tension(run.sim.data, "start")
+        tension = run.ship_end_tension()
         progress = run.named.progress_rate() if self.winch.mode == "follow" else 0.0
         drum = run.bt.drum_element() if self.winch.mode == "free" else None
         run.bt.set_length(self.winch.advance(dt, t, tension, progress, drum), rate=self.winch.current_rate)
@@ -108,6 +109,8 @@ class GaitDrive:
 
     def __init__(self, commands: np.ndarray, gait_period: float, heading: float):
         self.commands = commands
+        self._times = [float(t) for t in commands[:, 0]]  # (bisect on a list: the schedule is read every step)
+        self._rows = [(float(v), float(w)) for v, w in commands[:, 1:3]]
         self.manual_command = None
         self.gait = Tripod(period=gait_period)
         self.heading_ref = heading  # rad, the commanded heading (the turn rate integrated)
@@ -124,8 +127,7 @@ class GaitDrive:
         ``set_command``, else the scenario's schedule."""
         if self.manual_command is not None:
             return self.manual_command
-        k = int(np.searchsorted(self.commands[:, 0], t, side="right")) - 1
-        return float(self.commands[k, 1]), float(self.commands[k, 2])
+        return self._rows[bisect.bisect_right(self._times, t) - 1]
 
     def set_command(self, speed: float, turn_rate: float) -> None:
         """Command the walker directly (m/s, rad/s), overriding the schedule from now on."""

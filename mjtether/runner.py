@@ -116,6 +116,7 @@ class ScenarioRun:
                                          added_mass=sc.tether.added_mass,
                                          start_at=top)  # (the fairlead's place: no compile to find it)
         self.sim = Simulation(spec, self.water, tethers=[self.tm] if self.tethered else [], bodies=scene.bodies)
+        self._ship_tension = (-1, 0.0)  # (simulation revision, N): see ship_end_tension
         self.ship_pilot = None
         try:
             if scene.vessel is not None:  # the vessel: level at its start heading, on its autopilot
@@ -231,10 +232,18 @@ class ScenarioRun:
         sim.step()
         if self.bt is None:
             return
-        tension = self.bt.end_tension(sim.data, "start")
+        tension = self.ship_end_tension()
         if tension > self.rated_load:
             raise RunFailed(f"ship-end tension {tension:.0f} N exceeded the "
                             f"tether's rated load {self.rated_load:g} N at t = {sim.time:.2f} s")
+
+    def ship_end_tension(self) -> float:
+        """The ship-end tension (N) now: read once per state of the simulation (``step``'s
+        rated-load check reads it after the physics, the winch's law again before the next)."""
+        rev = self.sim.revision
+        if self._ship_tension[0] != rev:
+            self._ship_tension = (rev, self.bt.end_tension(self.sim.data, "start"))
+        return self._ship_tension[1]
 
     # ------------------------------------------------------------------ readouts
 

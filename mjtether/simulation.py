@@ -901,6 +901,7 @@ class Simulation:
         self._warnings = self.data.warning.number  # MuJoCo's warning counts (a live view)
         self._bad_acc0 = 0
         self._t_step = 0.0  # s, the time at the end of the step being taken
+        self.revision = 0  # counts steps, forward() and restore_state(): what was read at one revision holds
         self._worst = []  # what was furthest out after the last step (see check)
         with dispatch.suspended():  # (the first call reads MuJoCo's structs from two small models)
             ok = native.available()
@@ -938,6 +939,7 @@ class Simulation:
 
     def forward(self) -> None:
         """Recompute forces and readouts for the current state without stepping."""
+        self.revision += 1
         mujoco.mj_forward(self.model, self.data)
         self._eq_snapshot[:] = self.data.eq_active
         dispatch.raise_pending(self.data)
@@ -965,6 +967,7 @@ class Simulation:
 
     def _advance(self, nstep: int) -> None:
         """``nstep`` MuJoCo steps, switching slack tether elements after each."""
+        self.revision += 1
         if not self.tethers:
             self._t_step = self.data.time + self.model.opt.timestep
             mujoco.mj_step(self.model, self.data, nstep)
@@ -1005,6 +1008,7 @@ class Simulation:
     def restore_state(self, state) -> None:
         """Return to a ``save_state()``; readouts are valid after ``forward()`` or a step."""
         buf, payout = state
+        self.revision += 1
         mujoco.mj_setState(self.model, self.data, buf, mujoco.mjtState.mjSTATE_INTEGRATION)
         for k, t in self.tethers.items():
             t.restore_payout(payout[k])
