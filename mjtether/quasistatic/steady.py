@@ -776,7 +776,7 @@ def _cascade(tether, water: WaterColumn, v_tow, EA, pb: dict, guess, tol: float,
              max_iterations: int, first_guess):
     """Newton on the top force for problem ``pb``, started from ``guess`` or, for fine tethers,
     from the solve of a coarse one (the top force converges as 1/N^2, so a coarse solve gives an
-    excellent starting force and Jacobian: a cascade, e.g. 200 -> 25 -> 5 elements), else from
+    excellent starting force and Jacobian: a cascade, e.g. 200 -> 25 elements), else from
     ``first_guess(cable)``. Returns (cable, F, J, the converged march, residual)."""
     cable = _Cable(tether, water, v_tow, EA)
     J = None
