@@ -211,7 +211,9 @@ def place_walker(spec: mujoco.MjSpec, seabed_point, heading: float):
     mujoco.mju_mulQuat(quat, tilt, heading_quat(heading))
     normal = np.zeros(9)
     mujoco.mju_quat2Mat(normal, tilt)
-    pos = np.asarray(seabed_point, dtype=float) + WALKER_STAND_HEIGHT * normal[[2, 5, 8]]
-    frame = spec.worldbody.add_frame(pos=pos, quat=quat)
-    frame.attach_body(walker_spec().body("torso"), "walker/", "")
+    torso = walker_spec().body("torso")
+    # (the torso sits at its own height in walker.xml, which the frame carries along the normal)
+    lift = WALKER_STAND_HEIGHT - float(torso.pos[2])
+    frame = spec.worldbody.add_frame(pos=np.asarray(seabed_point, dtype=float) + lift * normal[[2, 5, 8]], quat=quat)
+    frame.attach_body(torso, "walker/", "")
     return add_body_hydro(spec, "walker/torso", WALKER_HYDRO)

@@ -57,6 +57,15 @@ and say which here:
   the runs by at most 4e-5 of a column's largest value (``default_walker``'s ship force), a
   laid element's tension by 3.2 N of 1450 N at the end of ``default_walker`` (its gait jerking
   it); columns that are zero to rounding (below 1e-15) moved by rounding.
+* the walker is placed with its torso ``WALKER_STAND_HEIGHT`` over the seabed, as documented
+  (walker.xml's own 0.9 m torso height had been added on top: it fell 0.9 m for 1.2 s of its
+  2 s stand, was still bouncing at its end, and sank its tow point 6.5 cm below the steady
+  start's during the pre-roll), and stands 1 s (``STAND_S``), by when it has settled. Every
+  walker run and the walker environments changed: the cable, started to the tow point where
+  the walker then stays, takes up its slack about 1 s sooner once the walker sets off
+  (``walker_turning_cross_current``'s tow tension reaches 238 N at 2 s, where it had 8 N;
+  over 20 s both runs go through the same cycle of 170-380 N, shifted by about 1 s, and end
+  at the same place to 1 cm). The anchor, vehicle and vessel runs are unchanged bit for bit.
 
     python tests/golden.py   # rewrites tests/data/golden_runs.npz
 """

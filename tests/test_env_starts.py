@@ -17,7 +17,8 @@ def test_randomised_resets_start_upright(env_id, resets):
     (0.1 s) of the first 5 s, with the winch stopped, the walker is within 2 deg of upright and
     of its commanded heading (the issue's requirement; measured at most 0.5 deg and 0.9 deg).
     Every one starts from the quasi-static steady state, none from the settling fallback (seed
-    93 of TetherWinch-v0 settled for want of one until ``start.REFINE_START`` tried 2N)."""
+    93 of TetherWinch-v0 settled for want of one until ``start.REFINE_START`` tried 2N and 3N
+    elements)."""
     env = gym.make(env_id).unwrapped
     worst, settled = [], []
     try:

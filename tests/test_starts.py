@@ -159,3 +159,39 @@ def test_a_walker_behind_a_surface_vessel_starts_upright():
     errors, _ = check_upright(sc)
     errors = np.array(errors)
     assert errors[:, 0].max() <= 2.0 and errors[:, 1].max() <= 2.0, errors.max(axis=0)
+
+
+def test_the_walker_is_placed_at_its_standing_height_and_stands_settled():
+    """``scene.place_walker`` puts the torso ``WALKER_STAND_HEIGHT`` (0.9 m) over the seabed
+    (walker.xml's own 0.9 m torso height had been added on top: the walker fell 0.9 m for 1.2
+    s of a 2 s stand and still bounced at its end). Stepping in place from there for the
+    stand's ``STAND_S`` (1 s), it ends settled: its torso's mean height over the next second
+    is that over seconds 2-4 after it, within 1 mm (measured 0.2 mm; the tripod's stepping
+    bobs it by 6 mm peak to peak; unsettled, it sank 6.5 cm)."""
+    from mjtether.controllers import CONTROL_HZ
+    from mjtether.scene import WALKER_STAND_HEIGHT, build_scene, place_walker, seabed_spec
+    from mjtether.simulation import Simulation
+    from mjtether.start import STAND_S
+    from mjtether.walker import Tripod
+
+    sc = load_scenario(overrides=["robot.start=[20.0, 5.0]"])
+    scene = build_scene(sc)
+    dt = sc.simulation.timestep
+    seabed = float(scene.seabed_z(20.0, 5.0))
+    spec = seabed_spec(scene.water, dt, sc.water.seabed_friction)
+    hydro = place_walker(spec, (20.0, 5.0, seabed), 0.3)
+    with Simulation(spec, scene.water, bodies=[hydro]) as sim:
+        m, d = sim.model, sim.data
+        torso = m.body("walker/torso").id
+        assert d.xpos[torso][2] - seabed == pytest.approx(WALKER_STAND_HEIGHT, abs=1e-9)
+        gait = Tripod(period=sc.robot.gait_period).bind(m, prefix="walker/")
+        every = max(1, int(round(1.0 / (CONTROL_HZ * dt))))
+        heights = []
+        for _ in range(int(round((STAND_S + 4.0) / (every * dt)))):
+            d.ctrl[gait.actuators] = gait.targets(every * dt, 0.0, 0.0)
+            sim.step(every)
+            heights.append((sim.time, float(d.xpos[torso][2])))
+    t, z = np.array(heights).T
+    after = z[(t > STAND_S) & (t <= STAND_S + 1.0)].mean()
+    settled = z[(t > STAND_S + 2.0) & (t <= STAND_S + 4.0)].mean()
+    assert abs(after - settled) <= 1e-3, f"{1e3 * (after - settled):.2f} mm"
