@@ -49,7 +49,7 @@ class Stand:
     """The walker's resting pose after STAND_S on the seabed (``stand_walker``): its joints'
     {(body, index in body): (qpos, qvel)}, its actuators' controls {name: ctrl}, the gait's
     phase, and the torso's position (m), rotation matrix (3, 3) and the tow point (m) in the
-    world."""
+    world, where it stood over the seabed point ``origin`` (m)."""
 
     pose: dict
     ctrl: dict
@@ -58,26 +58,34 @@ class Stand:
     position: np.ndarray
     rotation: np.ndarray
     tow_point: np.ndarray
+    origin: np.ndarray
 
 
 _STANDS: dict = {}
-"""Stands already made, by ``_stand_key`` (a sweep or a repeated run stands the walker once)."""
+"""Stands already made, by ``_stand_key``."""
 _STANDS_KEPT = 16
 
 
 def stand_walker(scene: Scene, gait_run: Tripod, dt: float):
     """Let the walker stand (stepping in place) on the seabed for STAND_S, alone with its
-    hydrodynamics in the scenario's water, then put it back at its commanded position and
-    heading; returns ({joint: (qpos, qvel)}, {actuator: control}, tow point (m, world)) of
-    that pose, and leaves ``gait_run`` (the run's gait) at the phase it stood in.
+    hydrodynamics in still water, then put it at its commanded position and heading; returns
+    ({joint: (qpos, qvel)}, {actuator: control}, tow point (m, world)) of that pose, and
+    leaves ``gait_run`` (the run's gait) at the phase it stood in.
 
-    The stand depends on nothing but the seabed, the water, where the walker stands, its
-    heading, the time step and the gait: it is kept, and a run with the same ones (a sweep over
-    the tether, a repeated run) takes it as it is."""
-    key = _stand_key(scene, gait_run.period, dt)
+    The stand is the walker's own pose on that seabed: the ship, the tether and the current
+    (which the pre-roll brings in, ``preroll``) play no part in it. On a flat seabed the walker
+    stands at the origin facing +x and is moved and turned into place, so the stand is made
+    once for every run on the same seabed (an environment's resets, a sweep) and kept; on a
+    slope it stands where it starts, facing its heading."""
+    flat = scene.slope == 0.0
+    key = _stand_key(scene, gait_run.period, dt, flat)
     stand = _STANDS.get(key) if key is not None else None
     if stand is None:
-        stand = _stand(scene, gait_run.period, dt)
+        if flat:
+            stand = _stand(scene, gait_run.period, dt, np.array([0.0, 0.0, float(scene.seabed_z(0.0, 0.0))]), 0.0)
+        else:
+            x, y = scene.sc.robot.start
+            stand = _stand(scene, gait_run.period, dt, np.array([x, y, float(scene.seabed_z(x, y))]), scene.heading)
         if key is not None:
             while len(_STANDS) >= _STANDS_KEPT:
                 _STANDS.pop(next(iter(_STANDS)))
@@ -86,13 +94,17 @@ def stand_walker(scene: Scene, gait_run: Tripod, dt: float):
     return _put_back(stand, scene)
 
 
-def _stand_key(scene: Scene, period: float, dt: float):
-    """What a stand depends on (see ``stand_walker``), or None where that cannot be told (a
-    profile that cannot be hashed)."""
-    w = scene.sc.water
-    x, y = scene.sc.robot.start
-    key = (scene.water, w.seabed_friction, scene.slope, scene.slope_heading, float(x), float(y), scene.heading,
-           period, dt, STAND_S, CONTROL_HZ)
+def _stand_key(scene: Scene, period: float, dt: float, flat: bool):
+    """What a stand depends on (see ``stand_walker``): the seabed (depth, friction, slope), the
+    water's density and gravity, the gait's period and the time step; on a slope, also where
+    the walker starts and its heading. None where that cannot be told (a density profile that
+    cannot be hashed)."""
+    w = scene.water
+    key = (w.depth, w.density, w.gravity, scene.sc.water.seabed_friction, scene.slope, scene.slope_heading, period,
+           dt, STAND_S, CONTROL_HZ)
+    if not flat:
+        x, y = scene.sc.robot.start
+        key += (float(x), float(y), scene.heading)
     try:
         hash(key)
     except TypeError:
@@ -100,12 +112,13 @@ def _stand_key(scene: Scene, period: float, dt: float):
     return key
 
 
-def _stand(scene: Scene, period: float, dt: float) -> Stand:
-    """The walker alone on the scene's seabed at its start, stepping in place for STAND_S."""
-    x, y = scene.sc.robot.start
-    spec = seabed_spec(scene.water, dt, scene.sc.water.seabed_friction, scene.slope, scene.slope_heading)
-    hydro = place_walker(spec, (x, y, float(scene.seabed_z(x, y))), scene.heading)
-    with Simulation(spec, scene.water, bodies=[hydro]) as sim:
+def _stand(scene: Scene, period: float, dt: float, origin: np.ndarray, heading: float) -> Stand:
+    """The walker alone over ``origin`` (m, world, on the scene's seabed), facing ``heading``
+    (rad), stepping in place for STAND_S in still water."""
+    still = wm.WaterColumn(depth=scene.water.depth, density=scene.water.density, gravity=scene.water.gravity)
+    spec = seabed_spec(still, dt, scene.sc.water.seabed_friction, scene.slope, scene.slope_heading)
+    hydro = place_walker(spec, origin, heading)
+    with Simulation(spec, still, bodies=[hydro]) as sim:
         m, d = sim.model, sim.data
         gait = Tripod(period=period).bind(m, prefix="walker/")
         every = max(1, int(round(1.0 / (CONTROL_HZ * dt))))
@@ -125,13 +138,13 @@ def _stand(scene: Scene, period: float, dt: float) -> Stand:
         ctrl = {mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_ACTUATOR, a): float(d.ctrl[a]) for a in range(m.nu)}
         return Stand(pose=pose, ctrl=ctrl, phase=gait.phase, torso=("walker/torso", 0),
                      position=d.xpos[torso.id].copy(), rotation=d.xmat[torso.id].reshape(3, 3).copy(),
-                     tow_point=d.site_xpos[m.site("walker/tow_point").id].copy())
+                     tow_point=d.site_xpos[m.site("walker/tow_point").id].copy(), origin=np.array(origin, dtype=float))
 
 
 def _put_back(stand: Stand, scene: Scene):
-    """``stand_walker``'s answer: the stand put back at the commanded position and heading (it
-    may have turned or slid a little while its feet found the seabed), turned about the
-    seabed's normal, its torso at rest."""
+    """``stand_walker``'s answer: the stand moved to the commanded position and turned about
+    the seabed's normal to the commanded heading (it may also have turned or slid a little
+    while its feet found the seabed), its torso at rest."""
     tilt = np.array(scene.spec.geom("seabed").quat)
     normal = np.zeros(9)
     mujoco.mju_quat2Mat(normal, tilt)
@@ -150,7 +163,7 @@ def _put_back(stand: Stand, scene: Scene):
     q_torso, v_torso = pose[stand.torso]
     x, y = scene.sc.robot.start
     start = np.array([x, y, float(scene.seabed_z(x, y))])
-    p = start + ((stand.position - start) @ n) * n  # same height over the seabed, at the commanded place
+    p = start + ((stand.position - stand.origin) @ n) * n  # same height over the seabed, at the commanded place
     q = np.zeros(4)
     mujoco.mju_mulQuat(q, q_turn, q_torso[3:7])
     q_torso[:3], q_torso[3:7] = p, q / np.linalg.norm(q)

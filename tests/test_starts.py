@@ -110,10 +110,11 @@ def test_follow_winch_does_not_pay_out_for_a_standing_walker():
 
 
 def test_a_run_with_the_same_stand_takes_it_as_it_is():
-    """The walker's stand (``start.stand_walker``) is kept: a second run of the same seabed,
-    water, start and gait, here with another tether, takes it without standing the walker again
-    and starts from the same standing pose and tow point, bit for bit, as a run that stood it
-    afresh; a run elsewhere or in another current stands it again."""
+    """The walker's stand (``start.stand_walker``) is kept: a second run on the same seabed,
+    here with another tether, another current, another start and heading, takes it without
+    standing the walker again (the current is the pre-roll's; on a flat seabed the stand is
+    moved and turned into place), and starts from the same standing pose, bit for bit, as a
+    run that stood it afresh; a run on another seabed stands it again."""
     from mjtether import start as st
 
     def pose_after_start(overrides):
@@ -126,27 +127,54 @@ def test_a_run_with_the_same_stand_takes_it_as_it_is():
             run.close()
 
     st._STANDS.clear()
-    fresh = pose_after_start(["tether.segments=60"])
+    pose_after_start(["tether.segments=60"])
     assert len(st._STANDS) == 1
     stood = []
     was = st._stand
     st._stand = lambda *a: stood.append(a) or was(*a)
+    elsewhere = ["tether.segments=61", "water.current.speed=0.5", "robot.start=[61.0, 40.0]", "robot.heading_deg=35.0",
+                 "tether.length=400.0"]
     try:
-        kept = pose_after_start(["tether.segments=61"])  # (another tether: another model)
+        kept = pose_after_start(elsewhere)
         assert not stood and len(st._STANDS) == 1
-        np.testing.assert_array_equal(kept[0], fresh[0])
-        np.testing.assert_array_equal(kept[1], fresh[1])
         st._STANDS.clear()
-        again = pose_after_start(["tether.segments=61"])  # the same run with its stand made afresh
+        again = pose_after_start(elsewhere)  # the same run with its stand made afresh
         assert len(stood) == 1
         np.testing.assert_array_equal(again[0], kept[0])
         np.testing.assert_array_equal(again[1], kept[1])
-        pose_after_start(["tether.segments=61", "water.current.speed=0.5"])
-        pose_after_start(["tether.segments=61", "robot.start=[61.0, 40.0]"])
-        assert len(stood) == 3 and len(st._STANDS) == 3
+        pose_after_start([*elsewhere, "water.depth=300.0"])
+        assert len(stood) == 2 and len(st._STANDS) == 2
     finally:
         st._stand = was
 
+
+def test_a_stand_is_moved_and_turned_into_place():
+    """On a flat seabed the walker stands once, at the origin facing +x, and that stand is moved
+    and turned to each run's start. Checked against a stand made where the run starts, by the
+    same physics (``start._stand`` there, then the same put-back):
+    * moved only (heading 0, 40 m away): the same to 1e-9 (MuJoCo's dynamics do not depend on
+      where on a flat seabed the walker stands; only rounding differs);
+    * moved and turned (120 deg; -75 deg 850 m away): within 1e-3 in every joint coordinate
+      (m, rad, quaternion) and 1 mm at the tow point. The walker settles a little differently
+      when turned, because the pyramid of MuJoCo's contact friction is fixed to the seabed's
+      axes, not the walker's: measured 4.3e-4, and 0.04 mm at the tow point."""
+    from mjtether import start as st
+    from mjtether.scene import build_scene
+    from mjtether.walker import Tripod
+
+    for heading, place, tol in ((0.0, (40.0, 0.0), 1e-9), (120.0, (40.0, 30.0), 1e-3), (-75.0, (-300.0, 800.0), 1e-3)):
+        sc = load_scenario(overrides=[f"robot.heading_deg={heading}", f"robot.start={list(place)}"])
+        scene = build_scene(sc)
+        period, dt = sc.robot.gait_period, sc.simulation.timestep
+        st._STANDS.clear()
+        moved = st.stand_walker(scene, Tripod(period=period), dt)
+        here = np.array([*place, float(scene.seabed_z(*place))])
+        made = st._put_back(st._stand(scene, period, dt, here, math.radians(heading)), scene)
+        assert moved[0].keys() == made[0].keys()
+        dq = max(float(np.abs(moved[0][k][0] - made[0][k][0]).max()) for k in made[0])
+        assert dq <= tol, f"heading {heading} deg: joint coordinates differ by {dq:.3g}"
+        assert float(np.abs(moved[2] - made[2]).max()) <= tol
+        assert moved[1] == made[1]
 
 def test_a_walker_behind_a_surface_vessel_starts_upright():
     """The walker on 80 m of tether from an Otter USV (``ship.vessel``: a floating body with
