@@ -69,11 +69,12 @@ and say which here:
 * the walker stands in still water (the current comes in with the pre-roll), on a flat seabed
   at the origin facing +x, moved and turned into place, the stand kept for every run on the
   same seabed (``start.stand_walker``). The walker runs and environments moved:
-  ``walker_turning_cross_current`` (0.5 m/s across the walker) most, its tow force by 23 N of
-  182 N at 2 s while the cable takes up its slack (over 20 s it goes through the same 170-380 N
-  cycle, to the newton, and ends at the same place); ``default_walker``'s ship force by 0.39 N
-  of 1470 N and a laid element by 12 N of 1440 N; ``TetheredWalker-v0``'s observations by at
-  most 19.5 of 812; the others by rounding or a slack element at a threshold.
+  ``walker_turning_cross_current`` (0.4 m/s across the walker) most, its tow force by 23 N of
+  182 N at 2 s while the cable takes up its slack (from 4 s on its tow tension, sampled each
+  second of 20 s through a 170-380 N cycle, stays within 4 N, and it ends at the same place);
+  ``default_walker``'s ship force by 0.39 N of 1470 N and a laid element by 12 N of 1440 N;
+  ``TetheredWalker-v0``'s observations by at most 19.5 of 812; the others by rounding or a
+  slack element at a threshold.
 
     python tests/golden.py   # rewrites tests/data/golden_runs.npz
 """
