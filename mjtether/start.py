@@ -54,13 +54,14 @@ class Stand:
     pose: dict
     ctrl: dict
     phase: float
-    torso: tuple
     position: np.ndarray
     rotation: np.ndarray
     tow_point: np.ndarray
     origin: np.ndarray
 
 
+_TORSO = ("walker/torso", 0)
+"""The torso's free joint in a stand's pose: (body, index in body)."""
 _STANDS: dict = {}
 """Stands already made, by ``_stand_key``."""
 _STANDS_KEPT = 16
@@ -136,7 +137,7 @@ def _stand(scene: Scene, period: float, dt: float, origin: np.ndarray, heading: 
                 pose[(body, j - int(m.body_jntadr[m.jnt_bodyid[j]]))] = (d.qpos[adr:adr + nq].copy(),
                                                                         d.qvel[dof:dof + nv].copy())
         ctrl = {mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_ACTUATOR, a): float(d.ctrl[a]) for a in range(m.nu)}
-        return Stand(pose=pose, ctrl=ctrl, phase=gait.phase, torso=("walker/torso", 0),
+        return Stand(pose=pose, ctrl=ctrl, phase=gait.phase,
                      position=d.xpos[torso.id].copy(), rotation=d.xmat[torso.id].reshape(3, 3).copy(),
                      tow_point=d.site_xpos[m.site("walker/tow_point").id].copy(), origin=np.array(origin, dtype=float))
 
@@ -160,7 +161,7 @@ def _put_back(stand: Stand, scene: Scene):
     mujoco.mju_quat2Mat(R_turn, q_turn)
     R_turn = R_turn.reshape(3, 3)
     pose = {k: (q.copy(), v.copy()) for k, (q, v) in stand.pose.items()}
-    q_torso, v_torso = pose[stand.torso]
+    q_torso, v_torso = pose[_TORSO]
     x, y = scene.sc.robot.start
     start = np.array([x, y, float(scene.seabed_z(x, y))])
     p = start + ((stand.position - stand.origin) @ n) * n  # same height over the seabed, at the commanded place
