@@ -333,6 +333,79 @@ def drum_capacity(tether: TetherSpec, max_length: float | None) -> int:
     return max(tether.segments, int(math.ceil(max_length / l0 - 0.5)) + 1)
 
 
+_FLEX = "cable"
+"""The flex's name in ``cable_parts`` (renamed to the tether's own name once attached)."""
+_PARTS: dict[tuple, mujoco.MjSpec] = {}
+PARTS_KEPT = 64
+"""Cable layouts ``cable_parts`` keeps (the oldest is dropped beyond)."""
+
+
+def cable_parts(n: int, first: int, diameter: float, rgba: tuple, solref: tuple | None,
+                added_mass: str) -> mujoco.MjSpec:
+    """A spec holding a tether's own parts, named without its prefix (see ``add_tether``): n + 1
+    node bodies with three world slide joints and a site each (at the origin, mass unset), the
+    1-D flex through them (``diameter`` m, its seabed contact ``solref``, None for none), element
+    j's tendon and equality (active for j >= ``first``), and for ``added_mass="normal"`` two
+    fixed tendons per node. Kept per layout (do not change the returned spec: copy it)."""
+    key = (n, first, diameter, rgba, solref, added_mass)
+    parts = _PARTS.get(key)
+    if parts is not None:
+        return parts
+    parts = mujoco.MjSpec()
+    body_names = [f"node{i}" for i in range(n + 1)]
+    for i, bname in enumerate(body_names):
+        b = parts.worldbody.add_body(name=bname)
+        b.explicitinertial = True
+        b.gravcomp = 1.0 if i < first else 0.0
+        for axis, ax in zip("xyz", np.eye(3)):
+            b.add_joint(name=f"{bname}/{axis}", type=mujoco.mjtJoint.mjJNT_SLIDE, axis=ax)
+        b.add_site(name=bname, size=[diameter] * 3)
+
+    flex = parts.add_flex(name=_FLEX, dim=1, radius=diameter / 2, rgba=list(rgba))
+    flex.vertbody = body_names
+    flex.vert = [0.0] * (3 * (n + 1))
+    flex.elem = [k for i in range(n) for k in (i, i + 1)]
+    flex.selfcollide = mujoco.mjtFlexSelf.mjFLEXSELF_NONE
+    if solref is None:  # no contact at all
+        flex.contype = 0
+        flex.conaffinity = 0
+    else:  # touches only geoms with the seabed bit in their conaffinity (see add_seabed)
+        flex.contype = TETHER_CONTACT_BIT
+        flex.conaffinity = 0
+        # the contact carries the normal force only; friction is mjtether.seabed's stick-point
+        # Coulomb model (MuJoCo's soft friction creeps under a steady load), applied by
+        # BoundTether with its stick points in MuJoCo's userdata
+        flex.priority = 1  # the tether's settings, not the seabed geom's, set the contact
+        flex.condim = 1
+        flex.margin = 0.0
+        flex.solref = list(solref)
+        flex.solimp = [0.99, 0.999, 0.001, 0.5, 2.0]
+
+    # element j: a tendon between its nodes' sites held at its rest length by an equality that
+    # BoundTether switches off while the element is slack (tension only); the solver parameters
+    # and rest lengths are set per element by BoundTether once masses are known
+    for j in range(n):
+        t = parts.add_tendon(name=f"element{j}")
+        t.wrap_site(body_names[j])
+        t.wrap_site(body_names[j + 1])
+        t.rgba = [0.0, 0.0, 0.0, 0.0]
+    for j in range(n):
+        e = parts.add_equality(name=f"element{j}", type=mujoco.mjtEq.mjEQ_TENDON, name1=f"element{j}")
+        e.active = j >= first
+    # normal added mass: two fixed tendons per node, along two directions normal to the cable,
+    # whose armature BoundTether sets to the node's added mass and whose joint coefficients it
+    # turns with the cable (a slender cylinder has no added mass along its axis)
+    for i in range(n + 1 if added_mass == "normal" else 0):
+        for k in range(2):
+            t = parts.add_tendon(name=f"{body_names[i]}/normal{k}")
+            for axis, c in zip("xyz", np.eye(3)[k]):
+                t.wrap_joint(f"{body_names[i]}/{axis}", float(c))
+    if len(_PARTS) >= PARTS_KEPT:
+        _PARTS.pop(next(iter(_PARTS)))
+    _PARTS[key] = parts
+    return parts
+
+
 def add_tether(
     spec: mujoco.MjSpec,
     tether: TetherSpec,
@@ -376,6 +449,11 @@ def add_tether(
         added_mass: ``"isotropic"`` or ``"normal"`` (see ``TetherSpec.added_mass`` and the module
             docstring); default: the tether's (``"isotropic"`` for a line make-up).
         start_at: as ``end_at``, for the start support (a vessel turned after compiling).
+
+    The cable's own parts are made once per layout (``cable_parts``: element count, drum
+    capacity, diameter, contact, added mass) and copied into ``spec`` under the prefix
+    ``name/``, then placed and weighed: an environment's resets, whose tethers differ in length
+    and position only, do not rebuild them.
     """
     if seabed_friction is not None:
         _checks.non_negative("seabed_friction", seabed_friction)
@@ -422,79 +500,43 @@ def add_tether(
         raise ValueError("nodes[0] must coincide with the start anchor")
     all_nodes = np.vstack([np.repeat(nodes[:1], first, axis=0), nodes])
 
-    # masses of the deployed cable; nodes on the drum get an interior node's (they are parked)
+    # the flex's seabed contact: None (touches nothing), or its solref
+    if seabed_friction is None:
+        solref = None
+    elif seabed_stiffness is None:  # MuJoCo's soft contact, a time constant of two steps
+        solref = (2 * dt, 1.0)
+    else:  # MoorDyn's kBot, cBot (Pa/m, Pa s/m) on d l, per kg of an element (added mass in)
+        _checks.positive("seabed_stiffness", seabed_stiffness, "Pa/m")
+        _checks.non_negative("seabed_damping", seabed_damping, "Pa s/m")
+        rho = 1025.0 if water is None else float(water.rho([water.seabed_z])[0])
+        per_kg = tether.diameter / (tether.mu + tether.ca_normal * rho * tether.area)  # (d l) / (m l)
+        k, b = seabed_stiffness * per_kg, max(seabed_damping * per_kg, 1e-9)  # 1/s^2, 1/s
+        dt_max = min(CONTACT_B_DT / b, math.sqrt(CONTACT_K_DT2 / k))
+        scale = 10.0 ** (math.floor(math.log10(dt_max)) - 2)
+        dt_max = math.floor(dt_max / scale) * scale  # (3 figures, rounded down: the step shown works)
+        if dt > dt_max * (1 + 1e-12):
+            raise ValueError(
+                f"water.seabed_stiffness = {seabed_stiffness:g} Pa/m and water.seabed_damping = "
+                f"{seabed_damping:g} Pa s/m on this cable (d {tether.diameter:g} m, {tether.mu:g} kg/m) need a "
+                f"time step of at most {dt_max:.3g} s, not {dt:g} s: per kg of cable they are {k:.3g} 1/s^2 and "
+                f"{b:.3g} 1/s, and MuJoCo's contact diverges beyond k dt^2 = {CONTACT_K_DT2:g} or b dt = "
+                f"{CONTACT_B_DT:g}; take a shorter step or a softer seabed")
+        solref = (-k, -b)
+
+    # the cable's own bodies, joints, flex, tendons and equalities: a copy of the parts for this
+    # layout (kept: an environment's resets differ in positions and masses only), placed and
+    # weighed, attached under the name prefix; masses of the deployed cable (nodes on the drum
+    # get an interior node's: they are parked)
+    parts = cable_parts(n, first, float(tether.diameter), tuple(float(c) for c in rgba), solref, added_mass).copy()
     m_el = tether.mu * l0
-    body_names = []
-    for i in range(n + 1):
-        bname = f"{name}/node{i}"
-        b = spec.worldbody.add_body(name=bname, pos=all_nodes[i])
-        b.explicitinertial = True
+    inertia = [1e-6 * m_el * l0 * l0 + 1e-12] * 3
+    for b, x in zip(parts.bodies[1:], all_nodes):  # (bodies[0] is the world)
+        b.pos = x
         b.mass = m_el
-        b.inertia = [1e-6 * m_el * l0 * l0 + 1e-12] * 3
-        b.gravcomp = 1.0 if i < first else 0.0
-        for axis, ax in zip("xyz", np.eye(3)):
-            b.add_joint(name=f"{bname}/{axis}", type=mujoco.mjtJoint.mjJNT_SLIDE, axis=ax)
-        b.add_site(name=f"{bname}", size=[tether.diameter] * 3)
-        body_names.append(bname)
-
-    flex = spec.add_flex(name=name, dim=1, radius=tether.diameter / 2, rgba=list(rgba))
-    flex.vertbody = body_names
-    flex.vert = [0.0] * (3 * (n + 1))
-    flex.elem = [k for i in range(n) for k in (i, i + 1)]
-    flex.selfcollide = mujoco.mjtFlexSelf.mjFLEXSELF_NONE
-    if seabed_friction is None:  # no contact at all
-        flex.contype = 0
-        flex.conaffinity = 0
-    else:  # touches only geoms with the seabed bit in their conaffinity (see add_seabed)
-        flex.contype = TETHER_CONTACT_BIT
-        flex.conaffinity = 0
-        # the contact carries the normal force only; friction is mjtether.seabed's stick-point
-        # Coulomb model (MuJoCo's soft friction creeps under a steady load), applied by
-        # BoundTether with its stick points in MuJoCo's userdata
-        flex.priority = 1  # the tether's settings, not the seabed geom's, set the contact
-        flex.condim = 1
-        flex.margin = 0.0
-        if seabed_stiffness is None:
-            flex.solref = [2 * dt, 1.0]
-        else:  # MoorDyn's kBot, cBot (Pa/m, Pa s/m) on d l, per kg of an element (added mass in)
-            _checks.positive("seabed_stiffness", seabed_stiffness, "Pa/m")
-            _checks.non_negative("seabed_damping", seabed_damping, "Pa s/m")
-            rho = 1025.0 if water is None else float(water.rho([water.seabed_z])[0])
-            per_kg = tether.diameter / (tether.mu + tether.ca_normal * rho * tether.area)  # (d l) / (m l)
-            k, b = seabed_stiffness * per_kg, max(seabed_damping * per_kg, 1e-9)  # 1/s^2, 1/s
-            dt_max = min(CONTACT_B_DT / b, math.sqrt(CONTACT_K_DT2 / k))
-            scale = 10.0 ** (math.floor(math.log10(dt_max)) - 2)
-            dt_max = math.floor(dt_max / scale) * scale  # (3 figures, rounded down: the step shown works)
-            if dt > dt_max * (1 + 1e-12):
-                raise ValueError(
-                    f"water.seabed_stiffness = {seabed_stiffness:g} Pa/m and water.seabed_damping = "
-                    f"{seabed_damping:g} Pa s/m on this cable (d {tether.diameter:g} m, {tether.mu:g} kg/m) need a "
-                    f"time step of at most {dt_max:.3g} s, not {dt:g} s: per kg of cable they are {k:.3g} 1/s^2 and "
-                    f"{b:.3g} 1/s, and MuJoCo's contact diverges beyond k dt^2 = {CONTACT_K_DT2:g} or b dt = "
-                    f"{CONTACT_B_DT:g}; take a shorter step or a softer seabed")
-            flex.solref = [-k, -b]
-        flex.solimp = [0.99, 0.999, 0.001, 0.5, 2.0]
-
-    # element j: a tendon between its nodes' sites held at its rest length by an equality that
-    # BoundTether switches off while the element is slack (tension only); the solver parameters
-    # and rest lengths are set per element by BoundTether once masses are known
-    for j in range(n):
-        t = spec.add_tendon(name=f"{name}/element{j}")
-        t.wrap_site(body_names[j])
-        t.wrap_site(body_names[j + 1])
-        t.rgba = [0.0, 0.0, 0.0, 0.0]
-    for j in range(n):
-        e = spec.add_equality(name=f"{name}/element{j}", type=mujoco.mjtEq.mjEQ_TENDON,
-                              name1=f"{name}/element{j}")
-        e.active = j >= first
-    # normal added mass: two fixed tendons per node, along two directions normal to the cable,
-    # whose armature BoundTether sets to the node's added mass and whose joint coefficients it
-    # turns with the cable (a slender cylinder has no added mass along its axis)
-    for i in range(n + 1 if added_mass == "normal" else 0):
-        for k in range(2):
-            t = spec.add_tendon(name=f"{name}/node{i}/normal{k}")
-            for axis, c in zip("xyz", np.eye(3)[k]):
-                t.wrap_joint(f"{body_names[i]}/{axis}", float(c))
+        b.inertia = inertia
+    spec.attach(parts, frame=spec.worldbody.add_frame(), prefix=f"{name}/")
+    spec.flex(f"{name}/{_FLEX}").name = name
+    body_names = [f"{name}/node{i}" for i in range(n + 1)]
 
     tm = TetherModel(name=name, spec=tether, start=start, end=end, node_bodies=body_names, n=n, first=first,
                      nominal_length=l0, initial_nodes=all_nodes,

@@ -111,11 +111,11 @@ class BoundTether:
         self.end_eq = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_EQUALITY, tm.connects["end"]) \
             if "end" in tm.connects else None
         self._bids = np.array([mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, b) for b in tm.node_bodies])
-        dofs = np.concatenate([model.body_dofadr[b] + np.arange(3) for b in self._bids])
+        dofs = (model.body_dofadr[self._bids][:, None] + np.arange(3)).ravel()
         if not np.all(np.diff(dofs) == 1):
             raise RuntimeError("tether node dofs must be contiguous")
         self._dof0 = int(dofs[0])
-        qadr = np.concatenate([model.jnt_qposadr[model.body_jntadr[b]] + np.arange(3) for b in self._bids])
+        qadr = (model.jnt_qposadr[model.body_jntadr[self._bids]][:, None] + np.arange(3)).ravel()
         if not np.all(np.diff(qadr) == 1):
             raise RuntimeError("tether node qpos must be contiguous")
         self._q0 = int(qadr[0])
@@ -517,8 +517,8 @@ class BoundTether:
         in ``data.userdata``, NaN (off the seabed) at the start."""
         if not tm.seabed_friction or tm.userdata_adr < 0:  # (no friction: MuJoCo's contact is all)
             return None
-        planes = [g for g in range(model.ngeom) if model.geom_type[g] == mujoco.mjtGeom.mjGEOM_PLANE
-                  and model.geom_conaffinity[g] & TETHER_CONTACT_BIT and model.geom_bodyid[g] == 0]
+        planes = np.flatnonzero((model.geom_type == int(mujoco.mjtGeom.mjGEOM_PLANE))
+                                & (model.geom_conaffinity & TETHER_CONTACT_BIT != 0) & (model.geom_bodyid == 0)).tolist()
         if not planes:
             return None
         if len(planes) > 1:

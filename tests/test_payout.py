@@ -80,3 +80,39 @@ def test_vertical_payout_tension_is_weight_less_tangential_drag():
         assert bt.deployed_length == pytest.approx(L1)
     assert abs(worst[0]) <= 0.02, (f"top tension off (w - f_t) L by {100 * worst[0]:+.2f} % at L = {worst[1]:.2f} m "
                                    f"(w = {w:.4f} N/m, f_t = {f_t:.4f} N/m)")
+
+
+
+@pytest.mark.parametrize("added_mass, stiffness", [("isotropic", None), ("normal", 2e5)])
+def test_a_tether_from_kept_parts_is_the_model_built_afresh(added_mass, stiffness):
+    """``add_tether`` keeps its cable's parts (bodies, joints, flex, tendons, equalities) per
+    layout and copies them for the next tether of that layout, as an environment's resets do
+    (another length, so other masses, element lengths and node positions, and another end).
+    Built after the parts served another tether, the model must be byte for byte the model
+    built with nothing kept (MuJoCo's own serialisation, ``mj_saveModel``: positions, masses,
+    names, everything): a kept part that carried a value over would show here."""
+    import mujoco
+
+    from mjtether import builder, dispatch
+
+    water = mt.WaterColumn(depth=100.0)
+
+    def build(length, end):
+        spec = new_spec(0.01)
+        builder.add_seabed(spec, water, friction=0.5)
+        tether = mt.TetherSpec(length=length, segments=12, diameter=0.03, density=1500.0)
+        builder.add_tether(spec, tether, mt.FixedPoint((0.0, 0.0, -1.0)), mt.FixedPoint(end), water=water,
+                           seabed_friction=0.3, seabed_stiffness=stiffness, max_length=2.5 * length,
+                           added_mass=added_mass)
+        model = dispatch.compile_spec(spec)
+        buf = np.zeros(mujoco.mj_sizeModel(model), np.uint8)
+        mujoco.mj_saveModel(model, None, buf)
+        return buf.tobytes()
+
+    builder._PARTS.clear()
+    fresh = build(120.0, (60.0, 10.0, -100.0))
+    builder._PARTS.clear()
+    build(121.0, (40.0, -20.0, -100.0))  # the parts are made for this one ...
+    assert len(builder._PARTS) == 1
+    assert build(120.0, (60.0, 10.0, -100.0)) == fresh  # ... and serve this (12 of 31 elements deployed)
+    assert len(builder._PARTS) == 1
