@@ -626,6 +626,40 @@ def steady_march(x0, P0, l_e, EA_e, d_e, A_e, mu_e, cdn_e, cdt_pi_e, float_cda, 
                     td[s] = k
 
 
+@_jit
+def shot_residuals(X, P, td, bottom, contact, seabed_z, cb, w, L, l, EA, r):
+    """``quasistatic.steady._shoot``'s residuals (m) of K marches of a uniform line into ``r``
+    (K, 3): the last node's miss of ``bottom``, or with ``contact`` and a touchdown in element
+    ``td[s]``, the laid end's miss (``_lay`` with ``end_only``: the rest of the unstretched
+    length ``L`` (m) laid straight from the touchdown along the horizontal force there, stretched
+    under the tension that seabed friction ``cb`` takes off it at ``w`` N/m) with, as the third
+    component, the touchdown's height above ``seabed_z``. Nodes ``X`` (K, n+1, 3), forces ``P``
+    (K, n+1, 3), element length ``l`` (m), ``EA`` (N, inf: inextensible)."""
+    for s in range(X.shape[0]):
+        k = td[s]
+        if not (contact and k >= 0):
+            for j in range(3):
+                r[s, j] = X[s, X.shape[1] - 1, j] - bottom[j]
+            continue
+        pz0, pz1 = P[s, k, 2], P[s, k + 1, 2]
+        phi = min(max(-pz0 / (pz1 - pz0), 0.0), 1.0) if pz1 != pz0 else 1.0
+        px = P[s, k, 0] + phi * (P[s, k + 1, 0] - P[s, k, 0])
+        py = P[s, k, 1] + phi * (P[s, k + 1, 1] - P[s, k, 1])
+        H = math.hypot(px, py)
+        LB = max(L - (k + phi) * l, 0.0)
+        if EA == math.inf:
+            stretch = LB
+        elif cb <= 0 or w <= 0:
+            stretch = LB * (1 + H / EA)
+        else:
+            uc = min(LB, min(H / (cb * w), 1e300))
+            stretch = LB + (H * uc - cb * w * uc * uc / 2) / EA
+        Hm = max(H, 1e-300)
+        r[s, 0] = X[s, k, 0] + phi * (X[s, k + 1, 0] - X[s, k, 0]) + stretch * (px / Hm) - bottom[0]
+        r[s, 1] = X[s, k, 1] + phi * (X[s, k + 1, 1] - X[s, k, 1]) + stretch * (py / Hm) - bottom[1]
+        r[s, 2] = X[s, k, 2] + phi * (X[s, k + 1, 2] - X[s, k, 2]) - seabed_z
+
+
 # --------------------------------------------------------------------------- the walker's gait
 
 

@@ -276,6 +276,36 @@ def test_steady_march_matches_the_numpy_march():
         np.testing.assert_array_equal(fast[3], ref[3])
 
 
+def test_shot_residuals_match_the_numpy_lay():
+    """The residuals of the steady solver's shots (``compiled.shot_residuals`` against
+    ``steady._residuals``, which lays the rest of a touched-down shot on the seabed with
+    ``_lay``) on the same marches: shots that touch down short of the bottom end, at it and
+    beyond, and shots that hang clear; the bottom end on the seabed (with and without seabed
+    friction) and off it; extensible and inextensible lines; every water column. To 1e-12 of the
+    largest residual."""
+    from dataclasses import replace
+
+    from mjtether.quasistatic import steady
+
+    for cable in _cables():
+        if cable.makeup is not None:
+            continue  # (make-ups shoot through _shoot_makeup)
+        for EA in (cable.EA, None):
+            c = steady._Cable(replace(mt_tether(), EA=EA), cable.water, cable.v_tow, EA)
+            W = c.mu * c.L * 9.81
+            F = np.array([[a * W, 0.1 * W, -b * W] for a in (0.05, 0.2, 0.6) for b in (0.1, 0.3, 0.9)])
+            X, T, P, td = c.march(np.tile([0.0, 0.0, -1.0], (len(F), 1)), F, stop_on_touchdown=True)
+            assert 0 < np.count_nonzero(td >= 0) < len(F)  # some touch down, some hang clear
+            for bottom, cb in (((150.0, 20.0, -300.0), 0.0), ((150.0, 20.0, -300.0), 0.8), ((60.0, 0.0, -200.0), 0.5)):
+                pb = dict(top=np.array([0.0, 0.0, -1.0]), bottom=np.array(bottom), seabed_z=-300.0, cb=cb,
+                          contact=bottom[2] == -300.0, seabed=True)
+                fast, ref = np.empty((len(F), 3)), np.empty((len(F), 3))
+                compiled.shot_residuals(X, P, td, pb["bottom"], pb["contact"], -300.0, cb,
+                                        c.seabed_wet_weight(-300.0), c.L, c.l, c.EA, fast)
+                steady._residuals(c, pb, X, T, P, td, ref)
+                close(fast, ref)
+
+
 def test_hang_up_matches_the_numpy_hang():
     """A slack cable's free hang marched up from its touchdown (``_hang_up``), compiled and
     NumPy, in every water column: nodes, tensions and the top force to 1e-12 of their largest."""

@@ -978,7 +978,20 @@ def _shoot(cable: _Cable, pb: dict, F: np.ndarray):
     K = F.shape[0]
     X, T, P, td = cable.march(np.tile(pb["top"], (K, 1)), F, stop_on_touchdown=True)
     r = np.empty((K, 3))
-    for j in range(K):
+    if cable.fast is not None:  # the same residuals, compiled (compiled.shot_residuals)
+        contact, seabed_z = pb["contact"], pb["seabed_z"]
+        compiled.shot_residuals(X, P, td, pb["bottom"], contact, seabed_z, pb["cb"],
+                                cable.seabed_wet_weight(seabed_z) if contact else 0.0, cable.L, cable.l, cable.EA, r)
+    else:
+        _residuals(cable, pb, X, T, P, td, r)
+    return r, (X, T, P, td)
+
+
+def _residuals(cable: _Cable, pb: dict, X, T, P, td, r) -> None:
+    """The shots' residuals (m) into ``r`` (K, 3): the last node's miss of the bottom end, or
+    for a shot that touches down with the bottom end on the seabed, the laid end's miss (``_lay``)
+    with the touchdown's height above the seabed as the third component."""
+    for j in range(X.shape[0]):
         k = td[j]
         if pb["contact"] and k >= 0:
             end = _lay(cable, X[j], T[j], P[j], k, pb["seabed_z"], pb["cb"], end_only=True)
@@ -987,7 +1000,6 @@ def _shoot(cable: _Cable, pb: dict, F: np.ndarray):
             r[j, 2] = X[j, k, 2] + phi * (X[j, k + 1, 2] - X[j, k, 2]) - pb["seabed_z"]  # touchdown height
         else:
             r[j] = X[j, -1] - pb["bottom"]
-    return r, (X, T, P, td)
 
 
 def _force_scale(cable: _Cable, top, bottom) -> float:
