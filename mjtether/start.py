@@ -38,8 +38,8 @@ REFINE_START = (1, 2, 3, 4)
 """Element counts, in multiples of the tether's, that the steady start is solved with in turn
 until Newton converges (``_solve_start``): where the touchdown sits in a coarse element the
 shot map is too rugged for Newton, and which refinement gets past that varies from case to
-case (in 100 TetherWinch-v0 resets: 92 converge as given, 6 with 2N, 2 with 3N; one of those
-also fails with 2N and 4N)."""
+case (in 100 TetherWinch-v0 resets: 92 converge as given, 7 with 2N, 1 with 3N, which also fails
+with 2N and 4N)."""
 FALLBACK_SUBSTEPS = 4
 """Pre-roll sub-steps per time step when the run starts from a guessed shape."""
 

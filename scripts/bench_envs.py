@@ -7,7 +7,9 @@ episode's model and quasi-static start). An environment step is ``frame_skip`` p
 counted in MuJoCo steps.
 
 For each environment (``envs``, with its default settings): ``steps_per_s`` with random
-actions (resets excluded), ``reset_ms`` (mean of ``--resets`` seeded resets), and
+actions (resets excluded), ``reset_ms`` (mean of ``--resets`` seeded resets after ``WARM_UP``
+others, the best of ``ROUNDS``; ``reset_in_mujoco_steps``: that in bare ``mj_step``s of the
+episode's model, a ratio that holds from machine to machine), and
 ``mujoco_bound_steps_per_s``: the environment steps per second MuJoCo alone would allow, from
 its own ``mj_step`` of the episode's model with the tether's and bodies' forces (the native
 callback) and nothing else: no controller, winch, slack switching or readout. The gap between
@@ -34,18 +36,32 @@ import mjtether.envs  # noqa: F401 - registers the environments
 
 ENV_ID = "mjtether/TetherWinch-v0"
 ENV_IDS = ("mjtether/TetherWinch-v0", "mjtether/TetheredWalker-v0", "mjtether/TetheredROV-v0")
+WARM_UP = 20
+"""Resets (other seeds) before the timed ones: a training run resets thousands of times, and its
+first few fill the caches every later reset reads (the walker's stand on each seabed, the
+cable's parts for each element layout: ``TetherWinch-v0``'s spread of lengths gives about seven
+layouts). Before 2026-11-27 one reset warmed up, so the first reset of each layout was timed too."""
+ROUNDS = 3
+"""Rounds of the timed resets (the same seeds each round): ``reset_ms`` is the lowest round's
+mean, as ``timeit`` takes the best of its repeats. Other jobs on a shared machine only add time,
+and here they swing a round's mean by up to 1.5x; every round is kept in ``reset_ms_rounds``
+(before 2026-11-27: one round)."""
 
 
 def profile(env_id: str, steps: int, resets: int) -> dict:
     """Steps per second (resets excluded), mean reset time and MuJoCo's bound of ``env_id``."""
     env = gym.make(env_id)
     env.action_space.seed(0)
-    env.reset(seed=0)  # (the first builds caches)
-    t_reset = []
-    for seed in range(1, resets + 1):
-        t0 = time.perf_counter()
+    for seed in range(1000, 1000 + WARM_UP):  # (caches: see WARM_UP)
         env.reset(seed=seed)
-        t_reset.append(time.perf_counter() - t0)
+    rounds = []  # the mean reset of each round over the same seeds
+    for _ in range(ROUNDS):
+        t_reset = []
+        for seed in range(1, resets + 1):
+            t0 = time.perf_counter()
+            env.reset(seed=seed)
+            t_reset.append(time.perf_counter() - t0)
+        rounds.append(float(np.mean(t_reset)))
     wall, done = 0.0, 0
     while done < steps:
         t0 = time.perf_counter()
@@ -63,7 +79,9 @@ def profile(env_id: str, steps: int, resets: int) -> dict:
     bare = (time.perf_counter() - t0) / n
     sim.restore_state(state)
     env.close()
-    return {"steps_per_s": round(done / wall, 1), "reset_ms": round(1e3 * float(np.mean(t_reset)), 1),
+    return {"steps_per_s": round(done / wall, 1), "reset_ms": round(1e3 * min(rounds), 1),
+            "reset_ms_rounds": [round(1e3 * r, 1) for r in rounds],
+            "reset_in_mujoco_steps": round(min(rounds) / bare),
             "mujoco_bound_steps_per_s": round(1.0 / (bare * frame_skip), 1), "frame_skip": frame_skip}
 
 
