@@ -96,7 +96,8 @@ class TetherWinchEnv(TetherEnv):
         tow, _, _ = self.robot_kinematics()
         self._prev_distance = float(np.hypot(tow[0], tow[1]))
         self._human_frame()
-        return self._get_obs(), self._info({})
+        ro = self._readouts()
+        return self._get_obs(ro), self._info({}, ro)
 
     def step(self, action):
         if self.runner is None:
@@ -104,12 +105,13 @@ class TetherWinchEnv(TetherEnv):
         a = float(_finite_action(action, 1)[0])
         self.runner.winch.command(a * self.max_rate)
         self._advance()
-        obs = self._get_obs()
-        tow = self.tow_tension()
+        ro = self._readouts()
+        obs = self._get_obs(ro)
+        tow = ro["tow_tension"]
         terms = {
             "reward_tension": -self.w_tension * tow / self.tension_ref,
             "reward_steady": -self.w_steady * abs(tow - self._prev_tow) / self.tension_ref,
-            "reward_slack": -self.w_slack * max(0.0, self.length_on_seabed() - self.slack_allowance)
+            "reward_slack": -self.w_slack * max(0.0, ro["length_on_seabed"] - self.slack_allowance)
             / self.slack_allowance,
         }
         terminated = bool(self.broke or self.at_length_limit())
@@ -117,28 +119,34 @@ class TetherWinchEnv(TetherEnv):
         self._prev_tow = tow
         reward = float(sum(terms.values()))
         self._human_frame()
-        return obs, reward, terminated, False, self._info(terms)
+        return obs, reward, terminated, False, self._info(terms, ro)
 
     # ---------------------------------------------------------------- observation
 
-    def _get_obs(self) -> np.ndarray:
+    def _readouts(self) -> dict:
+        """What the observation, the reward and ``info`` read, once per step (N, m, m/s, world)."""
         n = self.runner.named
         tow, _, v = self.robot_kinematics()
+        return {"ship_tension": n.ship_tension, "tow_tension": n.tow_tension, "length_on_seabed": self.length_on_seabed(),
+                "tow_point": tow, "velocity": v}
+
+    def _get_obs(self, ro: dict) -> np.ndarray:
+        n = self.runner.named
+        tow, v = ro["tow_point"], ro["velocity"]
         dist = float(np.hypot(tow[0], tow[1]))
         bearing = math.atan2(tow[1], tow[0])
         radial = float(v @ (tow[:2] / max(dist, 1e-9)))
-        obs = np.array([n.deployed_length, n.ship_tension, n.tow_tension, dist,
+        obs = np.array([n.deployed_length, ro["ship_tension"], ro["tow_tension"], dist,
                         math.sin(bearing), math.cos(bearing), float(np.hypot(*v)), radial,
-                        *self.currents(), self.length_on_seabed(), n.payout_rate], dtype=np.float32)
+                        *self.currents(), ro["length_on_seabed"], n.payout_rate], dtype=np.float32)
         return np.clip(obs, self.observation_space.low, self.observation_space.high)
 
-    def _info(self, terms: dict) -> dict:
+    def _info(self, terms: dict, ro: dict) -> dict:
         n = self.runner.named
-        tow, _, v = self.robot_kinematics()
-        return {**terms, "ship_tension": n.ship_tension, "tow_tension": n.tow_tension,
-                "deployed_length": n.deployed_length, "tow_point": tow, "robot_speed": float(np.hypot(*v)),
-                "length_on_seabed": self.length_on_seabed(), "rated_load_exceeded": self.broke,
-                "time": n.time}
+        return {**terms, "ship_tension": ro["ship_tension"], "tow_tension": ro["tow_tension"],
+                "deployed_length": n.deployed_length, "tow_point": ro["tow_point"],
+                "robot_speed": float(np.hypot(*ro["velocity"])), "length_on_seabed": ro["length_on_seabed"],
+                "rated_load_exceeded": self.broke, "time": n.time}
 
 
 TetherWinchEnv.__doc__ += kwargs_table(TetherWinchConfig)

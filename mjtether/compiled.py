@@ -703,6 +703,26 @@ def tripod_targets(phase, legs, speed, turn_rate, half, max_stride, step_height,
 
 
 @_jit
+def equality_rows(efc_type, efc_id, nefc, eq_id, start, stop, equality):
+    """``simulation.BoundTether._rows``: the rows (start, stop) of equality ``eq_id`` among the
+    first ``nefc`` constraint rows (type ``equality``), a contiguous block; the block
+    [``start``, ``stop``) given is checked at its ends and kept if it is still that equality's
+    whole block, else found again by a search ((0, 0) if it has none)."""
+    if 0 <= start < stop <= nefc and efc_type[start] == equality and efc_id[start] == eq_id \
+            and efc_type[stop - 1] == equality and efc_id[stop - 1] == eq_id \
+            and (start == 0 or efc_type[start - 1] != equality or efc_id[start - 1] != eq_id) \
+            and (stop == nefc or efc_type[stop] != equality or efc_id[stop] != eq_id):
+        return start, stop
+    first, last = -1, -1
+    for r in range(nefc):
+        if efc_type[r] == equality and efc_id[r] == eq_id:
+            if first < 0:
+                first = r
+            last = r
+    return (first, last + 1) if first >= 0 else (0, 0)
+
+
+@_jit
 def slack_switch(act, f, ten_length, rest, K, first, f_min, slack_tension, taut, all_rows):
     """``simulation.BoundTether.update_slack`` after its row lookup: ``act`` (n,) the elements'
     ``eq_active`` (switched in place), ``f`` the active elements' constraint forces in element

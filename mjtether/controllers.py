@@ -116,11 +116,12 @@ class GaitDrive:
         self.heading_ref = heading  # rad, the commanded heading (the turn rate integrated)
         self._since_control = 1.0 / CONTROL_HZ  # the first call sets the targets
         self._speed = 0.0  # m/s, the speed the gait is given (ramped towards the command)
-        self._torso = self._data = None
+        self._torso = self._data = self._xmat = self._ctrl = None
 
     def bind(self, model, data, torso: int) -> None:
         self.gait.bind(model, prefix="walker/")
         self._torso, self._data = torso, data
+        self._xmat, self._ctrl = data.xmat, data.ctrl  # (views: mjData's arrays never move)
 
     def command(self, t: float) -> tuple[float, float]:
         """The commanded (speed m/s, turn rate rad/s) at time ``t`` (s): the one set with
@@ -139,13 +140,13 @@ class GaitDrive:
         self.heading_ref += turn_rate * dt
         if self._since_control >= 1.0 / CONTROL_HZ - 1e-9:
             # heading hold: the open-loop gait drifts, and the tether's pull turns the walker
-            R = self._data.xmat[self._torso].reshape(3, 3)
-            err = heading_error(self.heading_ref, math.atan2(R[1, 0], R[0, 0]))
+            R = self._xmat[self._torso]  # (row-major: R[1, 0], R[0, 0])
+            err = heading_error(self.heading_ref, math.atan2(R[3], R[0]))
             turn = max(-MAX_TURN, min(MAX_TURN, turn_rate + HEADING_GAIN * err))
             # speed changes ramp at WALK_ACCEL: a step in stride jerks the stance legs
             dv = WALK_ACCEL * self._since_control
             self._speed = max(self._speed - dv, min(self._speed + dv, speed))
-            self._data.ctrl[self.gait.actuators] = self.gait.targets(self._since_control, self._speed, turn)
+            self._ctrl[self.gait.actuators] = self.gait.targets(self._since_control, self._speed, turn)
             self._since_control = 0.0
 
     def update(self, run, t: float, dt: float) -> None:

@@ -125,6 +125,11 @@ class BoundTether:
         self.drum_rest = self.l0
         self.payout_rate = 0.0  # m/s, of the last set_length
         self._eq_snapshot = None  # Simulation's copy of eq_active at the last force computation
+        self._snap_views = None  # (the snapshot, its slices before and at the elements: _element_rows)
+        # views of the per-step arrays (mjData's and mjModel's arrays never move)
+        self._eq_view, self._length_view = data.eq_active[self._eqs], data.ten_length[self._ten]
+        self._drum_arrays = (model.body_mass, model.dof_armature, model.tendon_invweight0, model.tendon_armature,
+                             model.eq_solref, model.eq_solimp, model.eq_data, model.tendon_length0)
         self._mu = s.mu
         self._ca_A = s.ca_normal * s.area
         self.makeup = mk = tm.makeup
@@ -328,8 +333,7 @@ class BoundTether:
                                  -1 if self._normal_ten is None else self._normal_ten.start,
                                  math.inf if EA is None else float(EA), m.opt.timestep, self.spec.axial_damping_ratio,
                                  AXIAL_OMEGA_DT, MIN_IMP, MAX_IMP, self.payout_rate, self._bids, self._rest,
-                                 self._inertia, self._lead, self._K, m.body_mass, m.dof_armature, m.tendon_invweight0,
-                                 m.tendon_armature, m.eq_solref, m.eq_solimp, m.eq_data, m.tendon_length0)
+                                 self._inertia, self._lead, self._K, *self._drum_arrays)
             return
         body_mass, armature, invweight = m.body_mass, m.dof_armature, m.tendon_invweight0
         ten_armature, nten = m.tendon_armature, (None if self._normal_ten is None else self._normal_ten.start)
@@ -388,7 +392,7 @@ class BoundTether:
         d, k = self.data, self.first
         if self._fast is not None:  # the same switching, compiled (compiled.slack_switch)
             rows = self._element_rows(d)
-            return compiled.slack_switch(d.eq_active[self._eqs], d.efc_force[rows], d.ten_length[self._ten], self._rest,
+            return compiled.slack_switch(self._eq_view, d.efc_force[rows], self._length_view, self._rest,
                                          self._K, k, self._f_min, SLACK_TENSION, taut,
                                          rows.stop - rows.start >= self.n - k)[1]
         act = d.eq_active[self._eqs].copy()
@@ -426,9 +430,15 @@ class BoundTether:
         """Constraint rows of the active element equalities: one each, in element order, after
         the rows of the active equalities defined before them (MuJoCo orders equality rows by
         equality)."""
-        active = self.efc_active(data)
-        r0 = int(self._rows_before @ active[:self.eq0]) if self.eq0 else 0
-        return slice(r0, r0 + int(np.count_nonzero(active[self._eqs])))
+        snap = self._eq_snapshot  # (efc_active)
+        if snap is None:
+            before, elements = data.eq_active[:self.eq0], data.eq_active[self._eqs]
+        else:
+            if self._snap_views is None or self._snap_views[0] is not snap:  # (its views, kept)
+                self._snap_views = (snap, snap[:self.eq0], snap[self._eqs])
+            _, before, elements = self._snap_views
+        r0 = int(self._rows_before @ before) if self.eq0 else 0
+        return slice(r0, r0 + int(np.count_nonzero(elements)))
 
     def efc_active(self, data) -> np.ndarray:
         """``eq_active`` as it was when MuJoCo last computed the constraint forces (the slack
@@ -802,6 +812,12 @@ class BoundTether:
         among the equality rows at the top of efc_*; cached, and checked at its ends."""
         r = self._row_cache.get(eq_id)
         t, i, n = data.efc_type, data.efc_id, data.nefc
+        if self._fast is not None:  # the same check and search, compiled (compiled.equality_rows)
+            start, stop = compiled.equality_rows(t, i, n, eq_id, -1 if r is None else r.start,
+                                                 -1 if r is None else r.stop, _EQUALITY)
+            if r is None or (start, stop) != (r.start, r.stop):
+                r = self._row_cache[eq_id] = slice(start, stop)
+            return r
         if r is None or not (r.stop <= n and t[r.start] == _EQUALITY and i[r.start] == eq_id
                              and t[r.stop - 1] == _EQUALITY and i[r.stop - 1] == eq_id
                              and (r.start == 0 or t[r.start - 1] != _EQUALITY or i[r.start - 1] != eq_id)
@@ -897,6 +913,9 @@ class Simulation:
         self._eq_snapshot = self.data.eq_active.copy()
         for t in self.tethers.values():
             t._eq_snapshot = self._eq_snapshot
+        # views of mjData's arrays that the per-step code reads (they never move)
+        self._eq_active, self._qpos, self._qvel = self.data.eq_active, self.data.qpos, self.data.qvel
+        self._tether_list = tuple(self.tethers.values())
         self._closed = False
         self._warnings = self.data.warning.number  # MuJoCo's warning counts (a live view)
         self._bad_acc0 = 0
@@ -972,14 +991,15 @@ class Simulation:
             self._t_step = self.data.time + self.model.opt.timestep
             mujoco.mj_step(self.model, self.data, nstep)
             return
-        tethers = list(self.tethers.values())
+        tethers = self._tether_list
         m, d, buf, spec = self.model, self.data, self._buf, _STATE
-        snap = self._eq_snapshot
+        snap, eq_active = self._eq_snapshot, self._eq_active
+        dt = m.opt.timestep
         for _ in range(nstep):
-            self._t_step = d.time + m.opt.timestep
+            self._t_step = d.time + dt
             mujoco.mj_getState(m, d, buf, spec)
             mujoco.mj_step(m, d)
-            snap[:] = d.eq_active
+            snap[:] = eq_active
             changed = False
             for t in tethers:
                 changed |= t.update_slack()
@@ -1035,9 +1055,10 @@ class Simulation:
         than ``MAX_STRAIN``. The message names the time, the tether element or MuJoCo degree of
         freedom, and the quantity."""
         d = self.data
-        w, count = d.warning, self._warnings  # (a view of the counts: cheaper than the list's items)
+        count = self._warnings  # (a view of the counts: cheaper than the list's items)
         bad = int(count[_BADQPOS]) + int(count[_BADQVEL]) + int(count[_BADQACC])
-        if bad > self._bad_acc0 or not math.isfinite(d.qvel[0] + d.qpos[0]):
+        if bad > self._bad_acc0 or not math.isfinite(self._qvel[0] + self._qpos[0]):
+            w = d.warning
             self._bad_acc0 = bad
             what = []
             for code, q in ((_BADQPOS, "position"), (_BADQVEL, "velocity"), (_BADQACC, "acceleration")):
@@ -1048,7 +1069,7 @@ class Simulation:
             self._diverged(self._t_step, "MuJoCo found a non-finite or huge " + " and ".join(what)
                            + (f"; a step earlier {self._furthest()}" if self._worst else ""))
         worst = []
-        qvel, ten_length = d.qvel, d.ten_length
+        qvel, ten_length = self._qvel, d.ten_length
         for name, t in self.tethers.items():
             k = t.first
             v = qvel[t._dof0 + 3 * k:t._dof0 + 3 * (t.n + 1)]

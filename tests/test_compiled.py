@@ -306,6 +306,39 @@ def test_shot_residuals_match_the_numpy_lay():
                 close(fast, ref)
 
 
+def test_equality_rows_match_the_numpy_search():
+    """The constraint rows of every equality of the built-in scenario's model
+    (``BoundTether._rows``: the tether's end connects, the drum's, the elements'), compiled
+    (``compiled.equality_rows``) and in NumPy, after a few steps: found with nothing kept, kept
+    when still right, and found again when the kept block is stale (shifted by one row, or
+    empty). Row indices: equal."""
+    run = ScenarioRun(load_scenario())
+    try:
+        for _ in range(5):
+            run.step()
+        bt, d, m = run.bt, run.sim.data, run.sim.model
+        fast = bt._fast
+        assert d.nefc > 0
+        hits = 0
+        for eq in range(m.neq):
+            for hint in (None, "right", "shifted", "empty"):
+                got = []
+                for kernels in (fast, None):
+                    bt._fast = kernels
+                    bt._row_cache.clear()
+                    if hint is not None:
+                        r = bt._rows(d, eq)
+                        bt._row_cache[eq] = {"right": r, "shifted": slice(r.start + 1, r.stop + 1),
+                                             "empty": slice(0, 0)}[hint]
+                    got.append(bt._rows(d, eq))
+                assert got[0] == got[1], (eq, hint, got)
+                hits += got[0].stop > got[0].start
+        assert hits > 0  # (some equalities are active and have rows)
+    finally:
+        bt._fast = fast
+        run.close()
+
+
 def test_hang_up_matches_the_numpy_hang():
     """A slack cable's free hang marched up from its touchdown (``_hang_up``), compiled and
     NumPy, in every water column: nodes, tensions and the top force to 1e-12 of their largest."""
