@@ -41,7 +41,7 @@ WARM_UP = 20
 first few fill the caches every later reset reads (the walker's stand on each seabed, the
 cable's parts for each element layout: ``TetherWinch-v0``'s spread of lengths gives about seven
 layouts). Before 2026-11-27 one reset warmed up, so the first reset of each layout was timed too."""
-ROUNDS = 3
+ROUNDS = 5
 """Rounds of the timed resets (the same seeds each round): ``reset_ms`` is the lowest round's
 mean, as ``timeit`` takes the best of its repeats. Other jobs on a shared machine only add time,
 and here they swing a round's mean by up to 1.5x; every round is kept in ``reset_ms_rounds``
