@@ -78,6 +78,7 @@ W in ``test_pushed_elements_carry_no_force``) and a touchdown spike (1.49 T0 in
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass, field
 
@@ -335,11 +336,11 @@ def drum_capacity(tether: TetherSpec, max_length: float | None) -> int:
 
 _FLEX = "cable"
 """The flex's name in ``cable_parts`` (renamed to the tether's own name once attached)."""
-_PARTS: dict[tuple, mujoco.MjSpec] = {}
 PARTS_KEPT = 64
-"""Cable layouts ``cable_parts`` keeps (the oldest is dropped beyond)."""
+"""Cable layouts ``cable_parts`` keeps (the least recently used is dropped beyond)."""
 
 
+@functools.lru_cache(maxsize=PARTS_KEPT)
 def cable_parts(n: int, first: int, diameter: float, rgba: tuple, solref: tuple | None,
                 added_mass: str) -> mujoco.MjSpec:
     """A spec holding a tether's own parts, named without its prefix (see ``add_tether``): n + 1
@@ -347,10 +348,6 @@ def cable_parts(n: int, first: int, diameter: float, rgba: tuple, solref: tuple 
     1-D flex through them (``diameter`` m, its seabed contact ``solref``, None for none), element
     j's tendon and equality (active for j >= ``first``), and for ``added_mass="normal"`` two
     fixed tendons per node. Kept per layout (do not change the returned spec: copy it)."""
-    key = (n, first, diameter, rgba, solref, added_mass)
-    parts = _PARTS.get(key)
-    if parts is not None:
-        return parts
     parts = mujoco.MjSpec()
     body_names = [f"node{i}" for i in range(n + 1)]
     for i, bname in enumerate(body_names):
@@ -400,9 +397,6 @@ def cable_parts(n: int, first: int, diameter: float, rgba: tuple, solref: tuple 
             t = parts.add_tendon(name=f"{body_names[i]}/normal{k}")
             for axis, c in zip("xyz", np.eye(3)[k]):
                 t.wrap_joint(f"{body_names[i]}/{axis}", float(c))
-    if len(_PARTS) >= PARTS_KEPT:
-        _PARTS.pop(next(iter(_PARTS)))
-    _PARTS[key] = parts
     return parts
 
 

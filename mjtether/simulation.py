@@ -124,8 +124,8 @@ class BoundTether:
         self.first = tm.first
         self.drum_rest = self.l0
         self.payout_rate = 0.0  # m/s, of the last set_length
-        self._eq_snapshot = None  # Simulation's copy of eq_active at the last force computation
-        self._snap_views = None  # (the snapshot, its slices before and at the elements: _element_rows)
+        self._eq_snapshot = None  # Simulation's copy of eq_active at the last force computation (use_snapshot)
+        self._snap_views = None  # its slices before and at the elements (_element_rows)
         # views of the per-step arrays (mjData's and mjModel's arrays never move)
         self._eq_view, self._length_view = data.eq_active[self._eqs], data.ten_length[self._ten]
         self._drum_arrays = (model.body_mass, model.dof_armature, model.tendon_invweight0, model.tendon_armature,
@@ -430,15 +430,18 @@ class BoundTether:
         """Constraint rows of the active element equalities: one each, in element order, after
         the rows of the active equalities defined before them (MuJoCo orders equality rows by
         equality)."""
-        snap = self._eq_snapshot  # (efc_active)
-        if snap is None:
+        if self._eq_snapshot is None:  # (efc_active)
             before, elements = data.eq_active[:self.eq0], data.eq_active[self._eqs]
         else:
-            if self._snap_views is None or self._snap_views[0] is not snap:  # (its views, kept)
-                self._snap_views = (snap, snap[:self.eq0], snap[self._eqs])
-            _, before, elements = self._snap_views
+            before, elements = self._snap_views
         r0 = int(self._rows_before @ before) if self.eq0 else 0
         return slice(r0, r0 + int(np.count_nonzero(elements)))
+
+    def use_snapshot(self, snap: np.ndarray) -> None:
+        """Read ``eq_active`` as it was at the last force computation from ``snap``, a copy
+        that the simulation keeps up to date in place (see ``efc_active``)."""
+        self._eq_snapshot = snap
+        self._snap_views = (snap[:self.eq0], snap[self._eqs])
 
     def efc_active(self, data) -> np.ndarray:
         """``eq_active`` as it was when MuJoCo last computed the constraint forces (the slack
@@ -912,7 +915,7 @@ class Simulation:
         self._buf = np.empty(mujoco.mj_stateSize(self.model, _STATE))
         self._eq_snapshot = self.data.eq_active.copy()
         for t in self.tethers.values():
-            t._eq_snapshot = self._eq_snapshot
+            t.use_snapshot(self._eq_snapshot)
         # views of mjData's arrays that the per-step code reads (they never move)
         self._eq_active, self._qpos, self._qvel = self.data.eq_active, self.data.qpos, self.data.qvel
         self._tether_list = tuple(self.tethers.values())

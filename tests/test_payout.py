@@ -109,10 +109,10 @@ def test_a_tether_from_kept_parts_is_the_model_built_afresh(added_mass, stiffnes
         mujoco.mj_saveModel(model, None, buf)
         return buf.tobytes()
 
-    builder._PARTS.clear()
+    builder.cable_parts.cache_clear()
     fresh = build(120.0, (60.0, 10.0, -100.0))
-    builder._PARTS.clear()
+    builder.cable_parts.cache_clear()
     build(121.0, (40.0, -20.0, -100.0))  # the parts are made for this one ...
-    assert len(builder._PARTS) == 1
+    assert builder.cable_parts.cache_info().currsize == 1
     assert build(120.0, (60.0, 10.0, -100.0)) == fresh  # ... and serve this (12 of 31 elements deployed)
-    assert len(builder._PARTS) == 1
+    assert builder.cable_parts.cache_info().currsize == 1

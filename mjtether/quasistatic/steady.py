@@ -1026,19 +1026,20 @@ def _first_guess(cable: _Cable, top, bottom, contact: bool = False, cb: float = 
     """The analytic catenary's top force (no current, mean density), when it applies, else half
     the weight down plus the force scale along the chord; with the top's share of the current's
     drag added (``_drag_share``)."""
+    drag = _drag_share(cable, top, bottom)
     if cable.makeup is not None:
-        return _first_guess_makeup(cable, top, bottom, contact, cb, top_contact) + _drag_share(cable, top, bottom)
+        return _first_guess_makeup(cable, top, bottom, contact, cb, top_contact) + drag
     d = bottom - top
     w = (cable.mu - float(cable.water.rho(np.array([0.5 * (top[2] + bottom[2])]))[0]) * cable.A) * cable.g
     if w > 0 and top[2] >= bottom[2] and np.hypot(d[0], d[1]) > 1e-6 * cable.L:
         try:
             c = catenary(bottom, top, cable.L, w, EA=None if cable.EA == math.inf else cable.EA, cb=cb,
                          seabed=contact)
-            return c.fairlead_force + _drag_share(cable, top, bottom)
+            return c.fairlead_force + drag
         except (ValueError, RuntimeError):
             pass
     return 0.5 * abs(w) * cable.L * np.array([0.0, 0.0, -1.0]) + d / max(np.linalg.norm(d), 1e-9) * 0.5 * \
-        _force_scale(cable, top, bottom) + _drag_share(cable, top, bottom)
+        _force_scale(cable, top, bottom) + drag
 
 
 def _drag_share(cable: _Cable, top, bottom, samples: int = 64) -> np.ndarray:
