@@ -1,7 +1,7 @@
 """What the two environments share: a scenario built afresh each episode (randomised current,
 route or goal), the walker on the seabed at the end of a tether from a ship holding station at
 the origin, stepping with ``frame_skip``, tether readouts, rendering (``render_mode="rgb_array"``
-through ``mjtether.render``, ``"human"`` through MuJoCo's passive viewer; ``camera_name`` /
+through ``mjtether.io.render``, ``"human"`` through MuJoCo's passive viewer; ``camera_name`` /
 ``camera_id`` as in Gymnasium's MuJoCo environments) and pickling.
 
 Frames: world, z up, surface z = 0, the ship's fairlead at the origin. Units SI.
@@ -19,9 +19,9 @@ from dataclasses import dataclass, fields
 import gymnasium as gym
 import numpy as np
 
-from mjtether.config import ConfigError, Section, param
-from mjtether.render import CAMERAS, Marker, RenderUnavailable, model_camera_id, tension_colours
-from mjtether.runner import RunFailed, ScenarioRun
+from mjtether.scenario.config import ConfigError, Section, param
+from mjtether.io.render import CAMERAS, Marker, RenderUnavailable, model_camera_id, tension_colours
+from mjtether.scenario.runner import RunFailed, ScenarioRun
 from mjtether.scenario import load_scenario
 from mjtether.units import KNOT
 
@@ -67,7 +67,7 @@ def check_camera_config(config: dict | None) -> dict:
 def select_camera(camera_name, camera_id, default_view: str) -> tuple[str, str | None]:
     """(renderer view, model camera or None) for Gymnasium's ``camera_name`` / ``camera_id``.
 
-    ``camera_name``: a view of ``mjtether.render`` ("track", "side", "top", "walker") or a
+    ``camera_name``: a view of ``mjtether.io.render`` ("track", "side", "top", "walker") or a
     camera of the model ("walker/track", "walker/front"). ``camera_id``: a camera of the model
     by id, or -1 for the default view (``default_camera_config["camera"]``). At most one."""
     views, cams = ", ".join(map(repr, CAMERAS)), ", ".join(map(repr, model_cameras()))
@@ -160,20 +160,20 @@ class TetherEnv(gym.Env):
     ``_robot_section``, the spaces, ``_get_obs`` and the reward.
 
     Keyword arguments: those of ``Config`` (see its table in the subclass docstring, checked in
-    the constructor: a bad one raises ``mjtether.config.ConfigError``, a ValueError, naming it),
+    the constructor: a bad one raises ``mjtether.scenario.config.ConfigError``, a ValueError, naming it),
     plus, as in Gymnasium's MuJoCo environments (all checked in the constructor, a ValueError
     listing what is allowed):
 
     * ``render_mode``: None, ``"rgb_array"`` (``render()`` returns a frame (height, width, 3)
-      uint8, drawn offscreen by ``mjtether.render``: no display needed) or ``"human"`` (a window,
+      uint8, drawn offscreen by ``mjtether.io.render``: no display needed) or ``"human"`` (a window,
       MuJoCo's passive viewer, updated on every ``reset`` and ``step`` and paced to real time;
       without a display, DISPLAY or WAYLAND_DISPLAY, the constructor raises
-      ``mjtether.render.RenderUnavailable``, a RuntimeError), or ``"depth_array"`` (``render()``
+      ``mjtether.io.render.RenderUnavailable``, a RuntimeError), or ``"depth_array"`` (``render()``
       returns (height, width) float32, the distance in m from the camera along its viewing axis
       to the first surface, as Gymnasium's MuJoCo environments give it; the physical objects
       only: no water surface, current arrows or goal marker).
     * ``default_camera_config``: {"camera": "track" | "side" | "top" | "walker", "tension_scale":
-      N}: the renderer's view (see ``mjtether.render``) and the top of the tether's tension
+      N}: the renderer's view (see ``mjtether.io.render``) and the top of the tether's tension
       colour scale (default: the rated load). Other keys are refused (Gymnasium's free-camera
       keys, such as ``distance``, do not apply: the views place the camera themselves).
     * ``camera_name``: one of the renderer's views above, or a camera of the MuJoCo model
@@ -332,7 +332,7 @@ class TetherEnv(gym.Env):
         if self.render_mode == "human":
             return self._render_human()
         if self._renderer is None:
-            from mjtether.render import FrameRenderer, VideoSettings
+            from mjtether.io.render import FrameRenderer, VideoSettings
 
             settings = VideoSettings(self.width, self.height, fps=float(self.metadata["render_fps"]),
                                      camera=self._view,

@@ -8,7 +8,7 @@ import math
 
 import numpy as np
 
-from mjtether.controllers import heading_error
+from mjtether.scenario.controllers import heading_error
 
 
 class FollowPayout:
@@ -130,8 +130,8 @@ class StationKeepingPID:
         self._runner = self._pilot = None
 
     def __call__(self, env) -> np.ndarray:
-        from mjtether.controllers import VehiclePilot
-        from mjtether.vehicles import load_vehicle
+        from mjtether.scenario.controllers import VehiclePilot
+        from mjtether.vehicles.files import load_vehicle
 
         e = env.unwrapped
         r = e.runner

@@ -48,7 +48,7 @@ from dataclasses import dataclass
 import numpy as np
 from gymnasium import spaces
 
-from mjtether.config import param
+from mjtether.scenario.config import param
 
 from .base import TetherEnv, TetherEnvConfig, _finite_action, kwargs_table
 

@@ -57,10 +57,10 @@ from dataclasses import dataclass
 import numpy as np
 from gymnasium import spaces
 
-from mjtether.config import Section, param
-from mjtether.readouts import roll_pitch
-from mjtether.render import Marker
-from mjtether.vehicles import load_vehicle
+from mjtether.scenario.config import Section, param
+from mjtether.scenario.readouts import roll_pitch
+from mjtether.io.render import Marker
+from mjtether.vehicles.files import load_vehicle
 
 from .base import TetherEnv, _finite_action, kwargs_table
 
@@ -72,7 +72,7 @@ TARGET_RGBA = (0.1, 0.95, 0.2, 0.55)
 class TetheredROVConfig(Section):
     """``TetheredROV-v0``'s keyword arguments: the site and umbilical, the task, the reward."""
 
-    vehicle: str = param("bluerov2_heavy", doc="a shipped vehicle with thrusters (mjtether.vehicles.shipped())")
+    vehicle: str = param("bluerov2_heavy", doc="a shipped vehicle with thrusters (mjtether.vehicles.files.shipped())")
     task: str = param("station", doc="station (hold the target) or waypoints (three targets in turn)",
                       choices=("station", "waypoints"))
     depth: float = param(50.0, 35.0, 2000.0, "m", "depth of the seabed")
@@ -108,7 +108,7 @@ class TetheredROVConfig(Section):
 
 
 def _with_thrusters() -> list[str]:
-    from mjtether.vehicles import shipped
+    from mjtether.vehicles.files import shipped
 
     return [n for n in shipped() if load_vehicle(n).thrusters]
 
@@ -220,7 +220,7 @@ class TetheredROVEnv(TetherEnv):
 
     def _target_error(self) -> np.ndarray:
         """(target - origin in the world frame (3,), m; heading error, rad)."""
-        from mjtether.controllers import heading_error
+        from mjtether.scenario.controllers import heading_error
 
         p, R, _ = self._vehicle_state()
         x, y, depth, heading = self.targets[self.leg]

@@ -48,9 +48,9 @@ from dataclasses import dataclass
 import numpy as np
 from gymnasium import spaces
 
-from mjtether.config import param
-from mjtether.render import Marker
-from mjtether.runner import RunFailed
+from mjtether.scenario.config import param
+from mjtether.io.render import Marker
+from mjtether.scenario.runner import RunFailed
 
 from .base import TetherEnv, TetherEnvConfig, _finite_action, kwargs_table
 

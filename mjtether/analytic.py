@@ -15,7 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import brentq
 
-from . import _checks
+from mjtether import _checks
 
 
 @dataclass(frozen=True)

@@ -7,8 +7,8 @@ import sys
 
 from pathlib import Path
 
-from . import _checks, demo
-from .outdir import terminate_as_exit
+from mjtether import _checks, demo
+from mjtether.io.outdir import terminate_as_exit
 from .units import knots
 
 
@@ -98,7 +98,7 @@ def _set_option(p) -> None:
 
 
 def _video_options(p) -> None:
-    from .render import CAMERAS
+    from mjtether.io.render import CAMERAS
 
     p.add_argument("--width", type=int, default=640, help="frame width in pixels, even (default 640)")
     p.add_argument("--height", type=int, default=480, help="frame height in pixels, even (default 480)")
@@ -113,7 +113,7 @@ def _video_options(p) -> None:
 
 def _video_factory(args, path, duration=None, overwrite=True):
     """A ``run(video=...)`` factory for the options in ``args``; raises ValueError on bad ones."""
-    from .render import VideoRecorder, VideoSettings, check_output_path
+    from mjtether.io.render import VideoRecorder, VideoSettings, check_output_path
 
     settings = VideoSettings(width=args.width, height=args.height, fps=args.fps, camera=args.camera,
                              tuned=not args.default_visuals, tension_scale=args.tension_scale)
@@ -124,7 +124,7 @@ def _video_factory(args, path, duration=None, overwrite=True):
 def _load(path, sets=()):
     """The checked scenario (the built-in one if ``path`` is None) with ``--set`` overrides, or
     None after printing the one-line reason."""
-    from .moordyn import load_any
+    from mjtether.io.moordyn import load_any
     from .scenario import ScenarioError
 
     try:
@@ -142,7 +142,7 @@ def _simulate(sc, command: str, what: str, **kw):
     failed (``what``: what the failure leaves unwritten)."""
     from tqdm import tqdm
 
-    from .runner import RunFailed, run
+    from mjtether.scenario.runner import RunFailed, run
     from .simulation import SimulationDiverged
 
     bar = tqdm(total=int(round(sc.simulation.duration / sc.simulation.timestep)), unit="step",
@@ -157,8 +157,8 @@ def _simulate(sc, command: str, what: str, **kw):
 
 
 def _run(args) -> int:
-    from . import results
-    from .outdir import OutputError, Staging, check_target
+    from mjtether.io import results
+    from mjtether.io.outdir import OutputError, Staging, check_target
 
     sc = _load(args.scenario, args.set)
     if sc is None:
@@ -234,13 +234,13 @@ def _render(args) -> int:
 
 
 def _convert(args) -> int:
-    """``mjtether convert SOURCE TARGET``: MoorDyn file <-> scenario TOML (see mjtether.moordyn);
+    """``mjtether convert SOURCE TARGET``: MoorDyn file <-> scenario TOML (see mjtether.io.moordyn);
     the target is written whole or not at all, and never over an existing file unless
     ``--overwrite``."""
     import os
     import tempfile
 
-    from . import moordyn
+    from mjtether.io import moordyn
     from .scenario import ScenarioError, to_toml
 
     sc = _load(args.source, args.set)
@@ -274,7 +274,7 @@ def _convert(args) -> int:
 
 
 def _sweep(args) -> int:
-    from . import sweep
+    from mjtether import sweep
 
     return sweep.cli(args)
 
@@ -282,7 +282,7 @@ def _sweep(args) -> int:
 def _solve(args) -> int:
     import numpy as np
 
-    from .runner import ScenarioRun
+    from mjtether.scenario.runner import ScenarioRun
 
     sc = _load(args.scenario, args.set)
     if sc is None:

@@ -7,9 +7,20 @@ import mujoco
 import numpy as np
 from tqdm import tqdm
 
-from . import _checks
-from . import (BodyPoint, ExponentialCurrent, FixedPoint, LinearDensity, RigidBodyHydro, Simulation,
-               TetherSpec, WaterColumn, add_body_hydro, add_tether, stability)
+from mjtether import _checks
+from mjtether import (
+    BodyPoint,
+    ExponentialCurrent,
+    FixedPoint,
+    LinearDensity,
+    RigidBodyHydro,
+    Simulation,
+    TetherSpec,
+    WaterColumn,
+    add_body_hydro,
+    add_tether,
+)
+from mjtether.cable import stability
 
 
 def hanging_tether(length: float = 200.0, segments: int = 50, current: float = 1.5,

@@ -1,7 +1,7 @@
 """Batched open-loop rollouts of a ``Simulation``'s model with its hydrodynamics, on threads.
 
 ``mujoco.rollout`` steps MuJoCo alone, on worker threads: the tether, rigid-body and vehicle
-loads apply there because the simulation's callback is native (``mjtether.native``). What
+loads apply there because the simulation's callback is native (``mjtether.physics.native``). What
 ``Simulation`` does *between* steps in Python does not happen in a rollout, so a rollout is
 the simulation's own run only while that is idle:
 
@@ -25,7 +25,7 @@ import mujoco
 import numpy as np
 from mujoco import rollout as _mj_rollout
 
-from . import native
+from mjtether.physics import native
 from .simulation import Simulation
 
 STATE = mujoco.mjtState.mjSTATE_FULLPHYSICS
@@ -99,7 +99,7 @@ def _warn_if_switched(sim: Simulation, states: np.ndarray) -> None:
     q0 = 1  # STATE's layout: time, then qpos
     for name, t in sim.tethers.items():
         k, n = t.first, t.n
-        q = states[..., q0 + t._q0 + 3 * k:q0 + t._q0 + 3 * (n + 1)] + t._body0[3 * k:]
+        q = states[..., q0 + t.layout.q0 + 3 * k:q0 + t.layout.q0 + 3 * (n + 1)] + t.layout.body0[3 * k:]
         x = q.reshape(*q.shape[:-1], n - k + 1, 3)
         strain = np.linalg.norm(np.diff(x, axis=-2), axis=-1) / t._deployed_rest - 1.0
         taut = sim.data.eq_active[t._eqs][k:].astype(bool)

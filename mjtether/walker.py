@@ -21,9 +21,9 @@ from pathlib import Path
 import mujoco
 import numpy as np
 
-from . import compiled
-from .packagedata import asset_dir
-from .rigidbody import RigidBodyHydro
+from mjtether.physics import compiled
+from mjtether.io.packagedata import asset_dir
+from mjtether.physics.rigidbody import RigidBodyHydro
 
 
 def _assets() -> Path:
@@ -120,15 +120,15 @@ class Tripod:
         """Advance the phase by ``dt`` (s) and return the 18 target angles (rad) of
         ``self.actuators`` (leg by leg in ``LEGS`` order: coxa, femur, tibia). Scalar code:
         six legs are too few for NumPy to pay off, and this runs at the control rate; with the
-        compiled kernels, ``compiled.tripod_targets``, in an array that the next call overwrites.
+        compiled kernels, ``tripod_targets``, in an array that the next call overwrites.
         A foot out of reach raises ValueError (``leg_ik``)."""
         if self._legs is None:
             raise RuntimeError("Tripod.bind(model) first")
         self.phase = (self.phase + dt / self.period) % 1.0
         half = self.period / 2
-        if self._fast:  # the same arithmetic, compiled (tests/test_walker.py)
-            bad = compiled.tripod_targets(self.phase, self._leg_table, float(speed), float(turn_rate), half,
-                                          self.max_stride, self.step_height, COXA, FEMUR, TIBIA, self._out)
+        if self._fast:  # the same arithmetic, compiled (tests/scenario/test_walker.py)
+            bad = tripod_targets(self.phase, self._leg_table, float(speed), float(turn_rate), half,
+                               self.max_stride, self.step_height, COXA, FEMUR, TIBIA, self._out)
             if bad < 0:
                 return self._out
         out = []
@@ -147,3 +147,39 @@ class Tripod:
             fx, fy, fz = nx + a * dx - hx, ny + a * dy - hy, nz + lift - hz
             out += leg_ik((c * fx + s * fy, -s * fx + c * fy, fz))  # R^T (foot - hip)
         return out
+
+
+@compiled.jit
+def tripod_targets(phase, legs, speed, turn_rate, half, max_stride, step_height, coxa, femur, tibia, out):
+    """``Tripod.targets`` after its phase update: the 18 joint targets (rad) into ``out``
+    for ``phase`` (0-1), each leg's row of ``legs`` (hip x, y, z, cos and sin of its yaw, neutral
+    foot x, y, z, phase offset; m), the commanded ``speed`` (m/s) and ``turn_rate`` (rad/s), half
+    the gait period (s), the stride limit and step height (m) and the link lengths (m) of
+    ``leg_ik``. Returns the index of the first leg whose foot is out of reach, or -1."""
+    for i in range(legs.shape[0]):
+        hx, hy, hz, c, s, nx, ny, nz, offset = (legs[i, 0], legs[i, 1], legs[i, 2], legs[i, 3], legs[i, 4],
+                                                  legs[i, 5], legs[i, 6], legs[i, 7], legs[i, 8])
+        ph = (phase + offset) % 1.0
+        dx, dy = (speed - turn_rate * ny) * half, turn_rate * nx * half
+        n = math.hypot(dx, dy)
+        if n > max_stride:
+            dx, dy = dx * max_stride / n, dy * max_stride / n
+        if ph < 0.5:  # stance
+            a, lift = 0.5 - 2 * ph, 0.0
+        else:  # swing
+            sig = 2 * ph - 1
+            a, lift = sig - 0.5, step_height * math.sin(math.pi * sig)
+        fx, fy, fz = nx + a * dx - hx, ny + a * dy - hy, nz + lift - hz
+        x, y, z = c * fx + s * fy, -s * fx + c * fy, fz  # R^T (foot - hip): leg_ik from here
+        q0 = math.atan2(y, x)
+        r = math.hypot(x, y) - coxa
+        D = math.hypot(r, z)
+        if not abs(femur - tibia) < D < femur + tibia:
+            return i
+        gamma = math.acos((femur ** 2 + D * D - tibia ** 2) / (2 * femur * D))
+        a1 = math.atan2(z, r) + gamma
+        a2 = math.atan2(z - femur * math.sin(a1), r - femur * math.cos(a1))
+        q1 = -a1
+        phi = math.atan2(-math.cos(a2), -math.sin(a2))
+        out[3 * i], out[3 * i + 1], out[3 * i + 2] = q0, q1, phi - q1
+    return -1

@@ -1,7 +1,7 @@
 """Benchmark: the native passive callback (a numba ``@cfunc``) against the same loads in C.
 
 Issue 17 asked for the faster of two ways to put the hydrodynamics in native code: a numba
-``@cfunc`` installed with ``mujoco.set_mjcb_passive`` (what ``mjtether.native`` does), or a
+``@cfunc`` installed with ``mujoco.set_mjcb_passive`` (what ``mjtether.physics.native`` does), or a
 MuJoCo engine plugin with the passive-force capability, written in C and built by the package.
 A plugin's ``compute`` runs where ``mjcb_passive`` runs (in ``mj_passive``), so its cost is that
 of a C callback doing the same work. This script writes that C callback for the tether's

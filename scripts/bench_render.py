@@ -20,8 +20,8 @@ from pathlib import Path
 import numpy as np
 
 from mjtether.cli import DEFAULT_SCENARIO
-from mjtether.render import VideoRecorder, VideoSettings
-from mjtether.runner import ScenarioRun, run
+from mjtether.io.render import VideoRecorder, VideoSettings
+from mjtether.scenario.runner import ScenarioRun, run
 from mjtether.scenario import load_scenario
 
 

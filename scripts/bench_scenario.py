@@ -24,7 +24,7 @@ from pathlib import Path
 import numpy as np
 
 from mjtether.cli import DEFAULT_SCENARIO
-from mjtether.runner import RECORD_FIELDS, run
+from mjtether.scenario.runner import RECORD_FIELDS, run
 from mjtether.scenario import load_scenario
 
 COL = {name: k for k, (name, _, _) in enumerate(RECORD_FIELDS)}
@@ -68,10 +68,10 @@ def _vehicle_wrench_us(kernels: str, calls: int = 5000) -> float:
 
     import mujoco
 
-    from mjtether import compiled
+    from mjtether.physics import compiled
     from mjtether.simulation import Simulation
-    from mjtether.vehicles import build_vehicle, load_vehicle
-    from mjtether.water import ExponentialCurrent, WaterColumn
+    from mjtether.vehicles.files import build_vehicle, load_vehicle
+    from mjtether.physics.water import ExponentialCurrent, WaterColumn
 
     was = os.environ.get(compiled.KERNELS_ENV)
     os.environ[compiled.KERNELS_ENV] = kernels

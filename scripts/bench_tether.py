@@ -8,7 +8,7 @@ Reports the cost per step and the real-time factor for each N, the cost ratio of
 N=100, MuJoCo's own step of the N=200 model without the hydrodynamics (what MuJoCo alone costs
 here) and the whole step over it, the kernels used (``MJTETHER_KERNELS``), and the cost of a drum: a 200-element tether with 10 % and with 100 % of it deployed (the
 rest parked on the drum). Stability is checked two ways: the drag rate lambda (see
-``mjtether.stability``) gives lambda dt < 1, and with ``--check`` the N=200 run is repeated
+``mjtether.cable.stability``) gives lambda dt < 1, and with ``--check`` the N=200 run is repeated
 at half the step: the ship-end tension after 60 s must agree within 1 %.
 
     python scripts/bench_tether.py [--json] [--check] [--timestep 0.005]

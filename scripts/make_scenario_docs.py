@@ -5,7 +5,7 @@
 
 from pathlib import Path
 
-from mjtether.reference import scenarios_md
+from mjtether.io.reference import scenarios_md
 
 
 def main():

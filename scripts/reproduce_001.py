@@ -30,8 +30,8 @@ from pathlib import Path
 
 import numpy as np
 
-from mjtether.readouts import RECORD_FIELDS
-from mjtether.runner import run
+from mjtether.scenario.readouts import RECORD_FIELDS
+from mjtether.scenario.runner import run
 from mjtether.scenario import load_scenario
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -133,7 +133,7 @@ def platform_case(usv_speed: float, uuv_speed: float, current: float, heading: f
     after ``duration`` s, the cable's force on the USV (N, world: x along the track, y to port,
     z up) and on the UUV (N, its body frame), the UUV's depth (m) and its roll and pitch (deg,
     pitch > 0 nose down)."""
-    from mjtether.runner import ScenarioRun
+    from mjtether.scenario.runner import ScenarioRun
     from mjtether.scenario import load_scenario
 
     sc = load_scenario(PLATFORM, overrides=(f"simulation.duration={duration}", f"ship.speed={usv_speed}",
@@ -288,7 +288,7 @@ def write_report(path: Path, out: dict, platform=()) -> None:
         "",
         "A cable whose drag is normal to it changes its tension only by its own weight: T_top = T_bottom",
         "+ w h (w its submerged weight per metre, h the height between its ends), and at the UUV",
-        "T_bottom = √(W² + D²) with W = 12 kgf and the UUV's small drag D (`tests/test_hong2020.py` checks",
+        "T_bottom = √(W² + D²) with W = 12 kgf and the UUV's small drag D (`tests/papers/test_hong2020.py` checks",
         "both). The tension anywhere on the cable therefore lies between about 12.0 and 15.1 kgf at every",
         "current. The experiment is inside that band up to 0.7 m/s "
         f"({exp_t[k7]:.2f} kgf at 0.7 m/s: {exp_t[k7] - out['tension_bottom_kgf'][k7]:+.2f} kgf on our UUV-end "

@@ -245,7 +245,7 @@ INCONSISTENCIES = """\
 * **Eqs. 22-23 do not follow from Eq. 21.** Eliminating T_i from Eq. 21 gives
   D_2 V^2 tan(theta) sin(theta) + C_1 tan(theta) + C_2 - W_s = 0 and
   T_i = (D_1 V^2 cos^3 + D_2 V^2 sin^3 + C_1) / cos(theta); the paper prints D_1 in the first and
-  swaps sin^3 and cos^3 in the second. `tests/test_quasistatic.py` checks that the consistent
+  swaps sin^3 and cos^3 in the second. `tests/quasistatic/test_quasistatic.py` checks that the consistent
   variant satisfies Eq. 21 and the printed one does not.
 * **The weight acts upwards in Eq. 18.** With the paper's geometry (Eqs. 26-29: the cable
   descends for theta > 0), Eq. 18's vertical row adds W_s,i to the vertical tension going down,

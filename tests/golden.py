@@ -90,7 +90,7 @@ SECONDS = 2.0
 
 
 def runs() -> dict[str, np.ndarray]:
-    from mjtether.runner import run
+    from mjtether.scenario.runner import run
     from mjtether.scenario import load_scenario
 
     out = {}

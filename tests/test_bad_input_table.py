@@ -16,7 +16,7 @@ import pytest
 
 import mjtether as mt
 from mjtether import cli
-from mjtether.config import ConfigError
+from mjtether.scenario.config import ConfigError
 from mjtether.scenario import Scenario, Simulation, Tether, load_scenario
 
 ANCHOR = '[robot]\ntype = "anchor"\nposition = [40.0, 0.0, -90.0]\n[water]\ndepth = 100.0\n'

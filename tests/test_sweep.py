@@ -13,7 +13,7 @@ import pytest
 
 from mjtether import sweep
 from mjtether.cli import main
-from mjtether.runner import RECORD_FIELDS, run
+from mjtether.scenario.runner import RECORD_FIELDS, run
 from mjtether.scenario import load_scenario
 
 pq = pytest.importorskip("pyarrow.parquet", reason="mjtether sweep writes Parquet with pyarrow (extra 'sweep')")
@@ -160,7 +160,7 @@ def test_resume_runs_only_the_unfinished_cases(tmp_path, scenario, monkeypatch, 
         calls.append(sc.tether.length)
         return real(sc)
 
-    monkeypatch.setattr(sweep, "run_case", interrupted)
+    monkeypatch.setattr(sweep.execute, "run_case", interrupted)
     assert _sweep(scenario, out, *args) == 130
     assert "rerun the same command to resume" in capsys.readouterr().err
     assert not out.exists()
@@ -170,7 +170,7 @@ def test_resume_runs_only_the_unfinished_cases(tmp_path, scenario, monkeypatch, 
     first = {j["overrides"][-1]: j["record"]["started_at"] for j in journal}
 
     calls.clear()
-    monkeypatch.setattr(sweep, "run_case", lambda sc: calls.append(sc.tether.length) or real(sc))
+    monkeypatch.setattr(sweep.execute, "run_case", lambda sc: calls.append(sc.tether.length) or real(sc))
     assert _sweep(scenario, out, *args) == 0
     assert "2 from an earlier interrupted run" in capsys.readouterr().out
     assert len(calls) == 2  # only the two unfinished cases ran
@@ -195,7 +195,7 @@ def test_sigint_with_two_jobs_keeps_finished_cases_for_the_rerun(tmp_path, scena
     proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True, cwd=tmp_path,
                             preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))  # not ignored, as in `cmd &`
     cases = sweep.progress_folder(out) / "cases"
-    deadline = time.monotonic() + 60
+    deadline = time.monotonic() + 600  # (a hang guard: the first compile may take a minute or more)
     while not (cases.is_dir() and any(cases.glob("*.json"))) and proc.poll() is None:
         assert time.monotonic() < deadline
         time.sleep(0.02)
@@ -210,7 +210,7 @@ def test_sigint_with_two_jobs_keeps_finished_cases_for_the_rerun(tmp_path, scena
     assert 1 <= done < 6
     real = sweep.run_case
     calls = []
-    monkeypatch.setattr(sweep, "run_case", lambda sc: calls.append(1) or real(sc))
+    monkeypatch.setattr(sweep.execute, "run_case", lambda sc: calls.append(1) or real(sc))
     assert main(["sweep", str(scenario), *args[:-2], "--out", str(out)]) == 0
     assert len(calls) == 6 - done
     assert len(_rows(out)) == 6
@@ -228,7 +228,7 @@ def test_two_sweeps_into_one_folder_are_refused_and_restart_discards_progress(tm
         other.close()
     real = sweep.run_case
     calls = []
-    monkeypatch.setattr(sweep, "run_case", lambda sc: calls.append(1) or real(sc))
+    monkeypatch.setattr(sweep.execute, "run_case", lambda sc: calls.append(1) or real(sc))
     fake = {"status": "ok", "error": "", "peak_ship_tension_N": -1.0}
     case = sweep.make_plan(scenario, [sweep.parse_vary("tether.length=110,120")]).cases[0]
     other.open()

@@ -2,7 +2,7 @@
 
 * ``steady_state``: the physically consistent 3-D steady state of the same discretised tether
   as the dynamic model (drag on the relative velocity, rho(z), turning current, tow velocity,
-  seabed contact), of a uniform ``TetherSpec`` or a non-uniform ``mjtether.makeup.LineMakeup``
+  seabed contact), of a uniform ``TetherSpec`` or a non-uniform ``mjtether.cable.makeup.LineMakeup``
   (sections, clump weights, buoyancy modules, float sections); ``initial_state`` gives it for a
   dynamic run's own stiffness (TetherSpec only).
 * ``catenary``: the analytic elastic catenary with seabed contact and friction.

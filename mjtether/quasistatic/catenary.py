@@ -32,7 +32,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import root
 
-from .. import _checks
+from mjtether import _checks
 
 
 @dataclass(frozen=True)

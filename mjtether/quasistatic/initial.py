@@ -9,9 +9,9 @@ not left unstretched.
 
 from __future__ import annotations
 
-from ..builder import axial_params
-from ..tether import TetherSpec
-from ..water import WaterColumn
+from mjtether.cable.builder import axial_params
+from mjtether.cable.tether import TetherSpec
+from mjtether.physics.water import WaterColumn
 from .steady import SteadyState, steady_state
 
 

@@ -61,8 +61,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import brentq
 
-from .. import _checks
-from ..water import WaterColumn
+from mjtether import _checks
+from mjtether.physics.water import WaterColumn
 
 THETA1 = math.radians(30.0)
 """Assumed angle of element 1 at the ship (Sec. 3.12)."""

@@ -1,0 +1,111 @@
+"""Tether (umbilical) specification: geometry, mass, hydrodynamic coefficients, stiffness.
+
+Names follow the ocean-engineering literature (MoorDyn/MoorPy): ``EA`` axial stiffness (N),
+``EI`` bending stiffness (N m^2), ``cd_normal``/``cd_tangential`` drag coefficients (the
+normal one on the projected area d*l, the tangential one on the wetted area pi*d*l) and
+``ca_normal`` the normal added-mass coefficient.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from mjtether import _checks
+
+
+MAX_LENGTH = 1e5
+"""Longest tether (m): 100 km."""
+MAX_SEGMENTS = 5000
+"""Most elements a tether may have (one MuJoCo body per node; the run costs about 1 us per element
+and step, and MuJoCo's arena runs out in the tens of thousands)."""
+
+
+ADDED_MASS = ("isotropic", "normal")
+"""How a node carries its added mass: on all three axes, or normal to the cable only."""
+
+
+@dataclass(frozen=True)
+class TetherSpec:
+    """A uniform tether.
+
+    Attributes:
+        length: unstretched deployed length L (m).
+        segments: number of elements N (nodes 0..N, node 0 at the ship).
+        diameter: hydrodynamic and buoyancy diameter d (m).
+        density: cable bulk density (kg/m^3); give this or ``mass_per_length``.
+        mass_per_length: cable mass per metre in air (kg/m); overrides ``density``.
+        cd_normal: normal drag coefficient C_dn (on d*l).
+        cd_tangential: tangential drag coefficient C_dt (on pi*d*l).
+        ca_normal: normal added-mass coefficient C_a (on rho*A*l).
+        EA: axial stiffness (N), or ``None`` for an inextensible tether (the solver then keeps
+            the strain at working tension below 1e-3; see ``mjtether.cable.builder``).
+        EI: bending stiffness (N m^2); 0 for a perfectly flexible cable.
+        axial_damping_ratio: damping ratio of the axial (stretch) mode of one element, as the
+            internal damping MoorDyn calls BA expressed relative to critical.
+        added_mass: ``"isotropic"`` (default): each node's added mass C_a rho A l on all three
+            axes, along the cable too, where a slender cylinder has none; ``"normal"``: normal to
+            the cable only (see ``mjtether.cable.builder``), which reproduces the flexible jumper of Lowe
+            and Langley (2006) but is not yet made safe with slack elements and touchdown.
+    """
+
+    length: float
+    segments: int = 60
+    diameter: float = 0.02
+    density: float | None = None
+    mass_per_length: float | None = None
+    cd_normal: float = 1.2
+    cd_tangential: float = 0.008
+    ca_normal: float = 1.0
+    EA: float | None = None
+    EI: float = 0.0
+    axial_damping_ratio: float = 1.0
+    added_mass: str = "isotropic"
+
+    def __post_init__(self):
+        _checks.in_range("tether.length", self.length, 1e-3, MAX_LENGTH, "m")
+        _checks.positive_int("tether.segments", self.segments, 1)
+        if self.segments > MAX_SEGMENTS:
+            raise ValueError(f"tether.segments must be an integer in [1, {MAX_SEGMENTS}], got {self.segments!r}")
+        _checks.positive("tether.diameter", self.diameter, "m")
+        if self.density is not None and self.mass_per_length is not None:
+            raise ValueError("tether: give either density or mass_per_length, not both")
+        if self.density is not None:
+            _checks.in_range("tether.density", self.density, 1.0, 20000.0, "kg/m^3")
+        if self.mass_per_length is not None:
+            _checks.positive("tether.mass_per_length", self.mass_per_length, "kg/m")
+        _checks.in_range("tether.cd_normal", self.cd_normal, 0.0, 10.0)
+        _checks.in_range("tether.cd_tangential", self.cd_tangential, 0.0, 10.0)
+        _checks.in_range("tether.ca_normal", self.ca_normal, 0.0, 10.0)
+        if self.EA is not None:
+            _checks.positive("tether.EA", self.EA, "N")
+        _checks.non_negative("tether.EI", self.EI, "N m^2")
+        _checks.in_range("tether.axial_damping_ratio", self.axial_damping_ratio, 0.0, 10.0)
+        if self.added_mass not in ADDED_MASS:
+            raise ValueError(f"tether.added_mass must be one of {', '.join(ADDED_MASS)}, got {self.added_mass!r}")
+
+    @property
+    def area(self) -> float:
+        """Cross-section area A = pi d^2 / 4 (m^2)."""
+        return math.pi * self.diameter**2 / 4.0
+
+    @property
+    def mu(self) -> float:
+        """Mass per unit length in air (kg/m); 1025 kg/m^3 bulk density if nothing is given."""
+        if self.mass_per_length is not None:
+            return float(self.mass_per_length)
+        rho_c = 1025.0 if self.density is None else self.density
+        return rho_c * self.area
+
+    @property
+    def segment_length(self) -> float:
+        """Unstretched element length l = L / N (m)."""
+        return self.length / self.segments
+
+    @property
+    def inextensible(self) -> bool:
+        return self.EA is None
+
+    def wet_weight_per_length(self, rho_water: float, gravity: float = 9.81) -> float:
+        """Submerged weight per metre w = (mu - rho A) g (N/m); negative if buoyant."""
+        return (self.mu - rho_water * self.area) * gravity

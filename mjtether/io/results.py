@@ -1,0 +1,317 @@
+"""Writing a run's results: a folder that is either complete or absent.
+
+Files (all SI units; ``docs/scenarios.md`` lists the CSV columns):
+
+* ``timeseries.csv``: one row per output sample, columns ``runner.RECORD_FIELDS`` named
+  ``<name>_<unit>`` (without the tether's, ``readouts.TETHER_FIELDS``, for a vehicle run
+  without one, ``tether.attached = false``: then there is no ``tether.npz``, ``tension.png``
+  nor ``profile.png`` either; without the tangle monitor's about a vehicle,
+  ``readouts.VEHICLE_FIELDS``, for a run without a vehicle);
+* ``tether.npz``: ``time`` (n,) s; ``nodes`` (n, e+1, 3), node positions in m; ``tension``
+  (n, e), element tensions in N (never negative: elements carry tension only; 0 when slack);
+  ``element_length`` (n, e), stretched element lengths in m. The e elements allocated are
+  numbered from the drum's core to the robot end, so element j is the same piece of cable all
+  run; those still on the drum have length and tension 0, their nodes sit at the fairlead;
+* ``summary.json``: the scenario as read (defaults filled in), final and peak tensions, wall time,
+  real-time factor, how the run was started;
+* ``tension.png`` (tensions at the ship end and the tow point, deployed length), ``profile.png``
+  (side view x-z of tether snapshots with the water surface, the seabed as defined, sloped or not,
+  the ship and the robot; top view x-y with their tracks), ``track.png`` (plan view of the ship's
+  and the robot's tracks); see ``tension_figure``, ``profile_figure``, ``track_figure``;
+* ``mjtether-manifest.json``: the files above with sizes and SHA-256, written last: it marks the
+  folder as an mjtether result, the only kind ``overwrite`` replaces.
+
+Everything is written to a temporary folder beside ``out`` and renamed into place at the end
+(``outdir.Staging``), so a failed or interrupted run leaves nothing that looks like results, and
+an existing folder is never replaced unless it is purely an earlier mjtether result
+(``outdir.check_target``).
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import math
+import shutil
+from pathlib import Path
+
+import numpy as np
+
+from mjtether.cable.builder import seabed_height
+from mjtether.physics.water import WaterColumn
+from .outdir import Staging, check_target
+from mjtether.scenario.readouts import TETHER_FIELDS, VEHICLE_FIELDS
+from mjtether.scenario.runner import RECORD_FIELDS
+
+
+def written(tethered: bool = True, vehicle: bool = True) -> list[int]:
+    """Indices of the ``RECORD_FIELDS`` a run writes: all but the tether's
+    (``readouts.TETHER_FIELDS``) for a run without one, and but the tangle monitor's about a
+    vehicle (``readouts.VEHICLE_FIELDS``) for a run without a vehicle."""
+    return [i for i, (name, _, _) in enumerate(RECORD_FIELDS)
+            if (tethered or name not in TETHER_FIELDS) and (vehicle or name not in VEHICLE_FIELDS)]
+
+
+def column_names(tethered: bool = True, vehicle: bool = True) -> list[str]:
+    """The CSV's column names (``name_unit``) of the fields ``written`` writes."""
+    names = [f"{name}_{unit.replace(' ', '').replace('/', 'per')}" if unit else name
+             for name, unit, _ in RECORD_FIELDS]
+    return [names[i] for i in written(tethered, vehicle)]
+
+
+def _jsonable(x):
+    if isinstance(x, dict):
+        return {k: _jsonable(v) for k, v in x.items()}
+    if isinstance(x, (list, tuple)):
+        return [_jsonable(v) for v in x]
+    if isinstance(x, float) and not math.isfinite(x):
+        return str(x)
+    if isinstance(x, (np.floating, np.integer)):
+        return x.item()
+    return x
+
+
+def summary(sc, rows: np.ndarray, info: dict, scenario_path) -> dict:
+    col = {name: i for i, (name, _, _) in enumerate(RECORD_FIELDS)}
+    out = {
+        "scenario_file": None if scenario_path is None else str(scenario_path),
+        "scenario": _jsonable(sc.to_dict()),
+        "samples": int(len(rows)),
+        "final": {"time_s": float(rows[-1, col["time"]]),
+                  "ship_tension_N": float(rows[-1, col["ship_tension"]]),
+                  "tow_tension_N": float(rows[-1, col["tow_tension"]]),
+                  "deployed_length_m": float(rows[-1, col["deployed_length"]])},
+        "peak": {"ship_tension_N": float(rows[:, col["ship_tension"]].max()),
+                 "tow_tension_N": float(rows[:, col["tow_tension"]].max())},
+        "run": _jsonable(info),
+    }
+    if not info.get("tethered", True):  # no tether: no tensions to report
+        out["final"] = {"time_s": out["final"]["time_s"]}
+        del out["peak"]
+    else:  # the tangle monitor's worst moments, and its events
+        t = rows[:, col["time"]]
+        tg = {}
+        keys = [("cable_self_clearance", "min_cable_self_clearance", "_m", np.argmin),
+                ("cable_plan_crossings", "max_cable_plan_crossings", "", np.argmax)]
+        if info.get("vehicle", True):
+            keys = [("cable_clearance", "min_cable_clearance", "_m", np.argmin), *keys,
+                    ("cable_wrap", "max_cable_wrap", "_deg", np.argmax)]
+        for name, label, unit, pick in keys:
+            k = int(pick(rows[:, col[name]]))
+            tg[label + unit] = float(rows[k, col[name]])
+            tg[label + "_time_s"] = float(t[k])
+        tg["events"] = info.get("tangle_events", [])
+        out["tangle"] = tg
+    return out
+
+
+def write(out, sc: dict, rows: np.ndarray, history: dict, info: dict, scenario_path=None,
+          plots: bool = True, extra_files: dict | None = None, *, overwrite: bool = False) -> Path:
+    """Write the results folder ``out`` atomically; returns its absolute path.
+    ``history`` is ``runner.run``'s (nodes, tension, element_length per sample);
+    ``extra_files`` {name: path} are moved into it (e.g. a video rendered during the run).
+    ``out`` may be absent or an empty folder; with ``overwrite`` also an earlier mjtether result
+    (nothing else: raises ``outdir.OutputError``, as for a full disk, and writes nothing). The cli
+    checks ``out`` before simulating; it is checked again here for callers from Python."""
+    target = check_target(out, overwrite=overwrite, protect=[scenario_path] if scenario_path else ())
+    nodes = history["nodes"]
+    tethered = info.get("tethered", True)
+    vehicle = info.get("vehicle", True)
+    keep = written(tethered, vehicle)
+    with Staging(target, overwrite=overwrite) as stage:
+        tmp = stage.path
+        with open(tmp / "timeseries.csv", "w", newline="") as fh:
+            w = csv.writer(fh)
+            w.writerow(column_names(tethered, vehicle))
+            for r in rows:
+                w.writerow([f"{v:.9g}" for v in r[keep]])
+        if tethered:
+            np.savez_compressed(tmp / "tether.npz", time=rows[:, 0], nodes=nodes, tension=history["tension"],
+                                element_length=history["element_length"])
+        (tmp / "summary.json").write_text(json.dumps(summary(sc, rows, info, scenario_path), indent=2))
+        if plots:
+            _plots(tmp, rows, nodes, sc, tethered)
+        for name, path in (extra_files or {}).items():
+            shutil.move(str(path), tmp / name)
+        return stage.commit()
+
+
+# ------------------------------------------------------------------------------ plots
+# World frame throughout: x, y horizontal (m), z up (m), water surface at z = 0; headings from +x
+# towards +y, in degrees on every label. Each ``*_figure`` returns its matplotlib Figure (Agg
+# backend, nothing shown) so that it can be inspected; ``_plots`` saves and closes them. Artists a
+# test may look for carry a gid: "seabed", "surface", "ship", "robot", "ship_track",
+# "robot_track", "ship_start", "robot_start", "upslope".
+
+_SHIP_MARKER = [(-1.0, 0.35), (1.0, 0.35), (0.65, -0.35), (-0.65, -0.35), (-1.0, 0.35)]
+"""A hull in side view (deck wider than keel), centred on the fairlead; marker units."""
+
+
+def _pyplot():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    return plt
+
+
+def _columns(rows: np.ndarray) -> dict:
+    """{field name: column of ``rows``} (``runner.RECORD_FIELDS``)."""
+    return {name: rows[:, i] for i, (name, _, _) in enumerate(RECORD_FIELDS)}
+
+
+def _snapshot_indices(nodes: np.ndarray, count: int = 6) -> np.ndarray:
+    """Up to ``count`` samples of ``nodes`` spread evenly over the run, first and last included."""
+    return np.unique(np.linspace(0, len(nodes) - 1, count).round().astype(int))
+
+
+def _snapshot_times(rows: np.ndarray, nodes: np.ndarray) -> np.ndarray:
+    """Time (s) of each sample of ``nodes``: the rows' times when every sample was kept,
+    otherwise (``runner.run(keep_nodes=False)``) those of the first samples only."""
+    t = rows[:, 0]
+    return t if len(nodes) == len(t) else t[:len(nodes)]
+
+
+def _upslope(ax, sc) -> None:
+    """An arrow in the top-right corner of the top-view ``ax`` pointing up the seabed slope
+    (heading ``sc.water.seabed_slope_heading_deg`` from +x towards +y); nothing on a level seabed.
+    Drawn in points from its tip, so its direction is true on an equal-aspect x-y plot."""
+    w = sc.water
+    if w.seabed_slope_deg == 0.0:
+        return
+    h = math.radians(w.seabed_slope_heading_deg)
+    length = 40.0  # points
+    ax.annotate(f"upslope ({w.seabed_slope_deg:g}\N{DEGREE SIGN})", xy=(0.88, 0.88), xycoords="axes fraction",
+                xytext=(-length * math.cos(h), -length * math.sin(h)), textcoords="offset points",
+                ha="center", va="center", fontsize=8, color="saddlebrown", gid="upslope",
+                arrowprops=dict(arrowstyle="-|>", color="saddlebrown", lw=1.5))
+
+
+def _tracks(ax, cols: dict) -> None:
+    """Ship (fairlead) and robot (tow point) tracks in plan, x-y (m), with start markers."""
+    ax.plot(cols["ship_x"], cols["ship_y"], "--", color="0.35", label="ship track", gid="ship_track")
+    ax.plot(cols["ship_x"][0], cols["ship_y"][0], "s", color="0.35", mfc="none", label="ship start",
+            gid="ship_start")
+    ax.plot(cols["robot_x"], cols["robot_y"], "-", color="darkorange", label="robot track", gid="robot_track")
+    ax.plot(cols["robot_x"][0], cols["robot_y"][0], "o", color="darkorange", mfc="none", label="robot start",
+            gid="robot_start")
+
+
+def tension_figure(rows: np.ndarray):
+    """Tension (N) at the ship end (fairlead) and at the robot's tow point, and the unstretched
+    deployed length (m), against simulated time (s). ``rows``: ``runner.run``'s records."""
+    plt = _pyplot()
+    c = _columns(rows)
+    fig, ax = plt.subplots(2, 1, figsize=(8, 6.5), sharex=True)
+    fig.suptitle("Tether tension and deployed length")
+    ax[0].plot(c["time"], c["ship_tension"], label="ship end")
+    ax[0].plot(c["time"], c["tow_tension"], label="tow point")
+    ax[0].set_title("Tension at the ship end and at the robot's tow point")
+    ax[0].set_ylabel("tension (N)")
+    ax[0].legend()
+    ax[1].plot(c["time"], c["deployed_length"], color="k")
+    ax[1].set_title("Deployed (unstretched) cable length")
+    ax[1].set_ylabel("deployed length (m)")
+    for a in ax:
+        a.set_xlabel("time (s)")
+        a.grid(alpha=0.3)
+    fig.tight_layout()
+    return fig
+
+
+def profile_figure(rows: np.ndarray, nodes: np.ndarray, sc):
+    """Snapshots of the tether: side view (x-z, m) and top view (x-y, m), world frame, z up,
+    water surface at z = 0. ``nodes`` (samples, nodes, 3) m, from the ship end (first node: the
+    fairlead) to the robot end. The side view shows the water surface, the seabed as the
+    scenario defines it (sloped or not), and the ship and the robot at the last snapshot; the top
+    view the ship's and the robot's tracks and, on a sloped seabed, which way is upslope."""
+    plt = _pyplot()
+    c = _columns(rows)
+    nodes = np.asarray(nodes, dtype=float)
+    times = _snapshot_times(rows, nodes)
+    fig, (side, top) = plt.subplots(1, 2, figsize=(12, 5))
+    fig.suptitle("Tether profile")
+    for i in _snapshot_indices(nodes):
+        side.plot(nodes[i, :, 0], nodes[i, :, 2], label=f"t = {times[i]:.0f} s")
+        top.plot(nodes[i, :, 0], nodes[i, :, 1])
+    last = nodes[-1]
+    ship, robot = last[0], last[-1]
+
+    # The seabed in the x-z view. The seabed plane's height depends on y as well as x when the
+    # slope heading is not along x; the line drawn is its section at the y of the cable's robot
+    # end in the last snapshot (where the cable meets the seabed), over the plotted x range. When
+    # the plotted cables span a range of y over which the seabed height differs, the band of
+    # seabed heights over that range is shaded as well.
+    w = sc.water
+    slope, heading = math.radians(w.seabed_slope_deg), math.radians(w.seabed_slope_heading_deg)
+    water = WaterColumn(depth=w.depth)  # only its seabed height is used: z = -depth at x = y = 0
+    x_all = np.concatenate([nodes[..., 0].ravel(), [ship[0], robot[0]]])
+    x0, x1 = float(x_all.min()), float(x_all.max())
+    pad = 0.05 * max(x1 - x0, 1.0)
+    xs = np.linspace(x0 - pad, x1 + pad, 101)
+    y_ref = float(robot[1])
+    seabed = seabed_height(water, xs, np.full_like(xs, y_ref), slope, heading)
+    y_lo, y_hi = float(nodes[..., 1].min()), float(nodes[..., 1].max())
+    lo = seabed_height(water, xs, np.full_like(xs, y_lo), slope, heading)
+    hi = seabed_height(water, xs, np.full_like(xs, y_hi), slope, heading)
+    if np.max(np.abs(hi - lo)) > 1e-3:
+        side.fill_between(xs, np.minimum(lo, hi), np.maximum(lo, hi), color="saddlebrown", alpha=0.2, lw=0,
+                          label=f"seabed for y in [{y_lo:.0f}, {y_hi:.0f}] m")
+    side.plot(xs, seabed, color="saddlebrown", lw=2, gid="seabed",
+              label=f"seabed at y = {y_ref:.1f} m" + (f" (slope {w.seabed_slope_deg:g}\N{DEGREE SIGN})"
+                                                      if w.seabed_slope_deg else ""))
+    side.axhline(0.0, color="steelblue", lw=1, gid="surface", label="water surface")
+    side.plot([ship[0]], [ship[2]], marker=_SHIP_MARKER, ms=16, ls="none", color="0.3", gid="ship",
+              label=f"ship (fairlead, t = {times[-1]:.0f} s)")
+    side.plot([robot[0]], [robot[2]], marker="D", ms=8, ls="none", color="darkorange", gid="robot",
+              label=f"robot (tow point, t = {times[-1]:.0f} s)")
+    side.set_title("Side view (x-z)")
+    side.set_xlabel("x (m)")
+    side.set_ylabel("z, height above the water surface (m)")
+    side.legend(fontsize=7, loc="best")
+
+    _tracks(top, c)
+    _upslope(top, sc)
+    top.set_title("Top view (x-y) with ship and robot tracks")
+    top.set_xlabel("x (m)")
+    top.set_ylabel("y (m)")
+    top.set_aspect("equal", adjustable="datalim")
+    top.legend(fontsize=7, loc="best")
+    for a in (side, top):
+        a.grid(alpha=0.3)
+    fig.tight_layout()
+    return fig
+
+
+def track_figure(rows: np.ndarray, sc):
+    """Plan view (x-y, m, world frame) of the ship's (fairlead's) and the robot's (tow point's)
+    tracks with their start markers and, on a sloped seabed, an arrow pointing upslope."""
+    plt = _pyplot()
+    fig, ax = plt.subplots(figsize=(6.5, 6.5))
+    fig.suptitle("Ship and robot tracks")
+    _tracks(ax, _columns(rows))
+    _upslope(ax, sc)
+    ax.set_title("Plan view (x-y)")
+    ax.set_xlabel("x (m)")
+    ax.set_ylabel("y (m)")
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.legend(fontsize=8, loc="best")
+    ax.grid(alpha=0.3)
+    fig.tight_layout()
+    return fig
+
+
+def _plots(folder: Path, rows: np.ndarray, nodes: np.ndarray, sc, tethered: bool = True) -> None:
+    """Write tension.png, profile.png and track.png into ``folder`` (track.png only for a run
+    without a tether)."""
+    plt = _pyplot()
+    figures = (("tension.png", lambda: tension_figure(rows)),
+               ("profile.png", lambda: profile_figure(rows, nodes, sc)),
+               ("track.png", lambda: track_figure(rows, sc)))
+    for name, make in figures if tethered else figures[2:]:
+        fig = make()
+        try:
+            fig.savefig(folder / name, dpi=110)
+        finally:
+            plt.close(fig)

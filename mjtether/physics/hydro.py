@@ -1,0 +1,196 @@
+"""Hydrodynamic force kernels: pure NumPy, no MuJoCo.
+
+Tether (lumped-mass discretisation, nodes 0..N, element i joins nodes i and i+1), after the
+design conventions and Morison's equation. For element i of unstretched length l, diameter d,
+unit tangent t and relative velocity v_rel = u(z_c) - v_c at its centre (``morison_drag``, the
+one drag kernel of the dynamic tether and the quasi-static solver):
+
+* normal drag      F_n = 1/2 rho C_dn d l_wet |v_n| v_n,
+* tangential drag  F_t = 1/2 rho C_dt pi d l_wet |v_t| v_t,
+* buoyancy         F_b = rho(z) g A l_wet, upwards, acting at the centre of the wetted part,
+
+where l_wet is the submerged part of the element (the cable may cross the surface z = 0).
+Element loads go to its two nodes (lever rule for the buoyancy of a partly wet element).
+The added mass C_a rho A l is carried by the MuJoCo mass matrix (see ``builder``), not here.
+
+Rigid bodies: buoyancy rho g V at the centre of buoyancy, quadratic drag per body axis
+F_k = 1/2 rho C_k S_k |v_k| v_k on the relative velocity, angular drag M_k = -c_k |w_k| w_k.
+
+All inputs and outputs are SI, world frame unless stated.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+
+def element_geometry(x: np.ndarray):
+    """Element vectors, lengths (m) and unit tangents of a node polyline ``x`` (N+1, 3)."""
+    e = x[1:] - x[:-1]
+    length = np.sqrt(np.einsum("ij,ij->i", e, e))
+    t = e / np.maximum(length, 1e-12)[:, None]
+    return e, length, t
+
+
+def wet_fraction(z0: np.ndarray, z1: np.ndarray):
+    """Submerged fraction of straight elements with end heights z0, z1 (m), and the position
+    (0 at node i, 1 at node i+1) of the centre of the wetted part."""
+    if z0.max() <= 0.0 and z1.max() <= 0.0:  # the usual case: the whole line is under water
+        return np.ones_like(z0), np.full_like(z0, 0.5)
+    lo = np.minimum(z0, z1)
+    hi = np.maximum(z0, z1)
+    span = hi - lo
+    with np.errstate(divide="ignore", invalid="ignore"):
+        frac = np.where(span > 1e-12, np.clip(-lo / np.where(span > 1e-12, span, 1.0), 0.0, 1.0),
+                        (lo <= 0.0).astype(float))
+    # centre of the wet part, measured from the lower end, then mapped to node i -> node i+1
+    c_low = 0.5 * frac
+    centre = np.where(z0 <= z1, c_low, 1.0 - c_low)
+    return frac, centre
+
+
+def morison_drag(t: np.ndarray, u: np.ndarray, rho, l_wet, diameter, cd_normal, cd_tangential_pi,
+                 float_cd_area=None) -> np.ndarray:
+    """Morison drag (N, world) on straight cable elements, shape (K, 3): normal
+    1/2 rho C_dn d l_wet |u_n| u_n plus tangential 1/2 rho C_dt pi d l_wet |u_t| u_t, plus, with
+    ``float_cd_area`` (m^2 per metre of cable: floats on it), 1/2 rho C_dA l_wet |u_n| u_n.
+
+    Args:
+        t: unit tangents (K, 3); u: flow relative to the element (current less its velocity),
+            m/s (K, 3).
+        rho: water density (kg/m^3), l_wet: wetted length (m), diameter (m), cd_normal and
+            cd_tangential_pi (C_dt times pi): scalars or one per element (K,).
+    """
+    ut = (u * t).sum(axis=1)
+    un = u - ut[:, None] * t
+    q = 0.5 * diameter * l_wet * rho
+    un_mag = np.sqrt((un * un).sum(axis=1))
+    f = (q * cd_normal * un_mag)[:, None] * un
+    f += (q * cd_tangential_pi * np.abs(ut) * ut)[:, None] * t
+    if float_cd_area is not None:  # the floats' own normal drag
+        f += (0.5 * float_cd_area * l_wet * rho * un_mag)[:, None] * un
+    return f
+
+
+def tether_loads(
+    x: np.ndarray,
+    v: np.ndarray,
+    *,
+    segment_length: float,
+    diameter: float,
+    cd_normal: float,
+    cd_tangential: float,
+    rho_fn,
+    current_fn,
+    gravity: float = 9.81,
+    first_share: float = 0.5,
+    area=None,
+    float_cd_area=None,
+) -> np.ndarray:
+    """Hydrodynamic loads on the nodes of a tether (N, world frame), shape ``(N+1, 3)``.
+
+    Args:
+        x, v: node positions (m) and velocities (m/s), shape ``(N+1, 3)``.
+        segment_length: unstretched element length l (m), or one per element; loads scale with
+            the material length, not the stretched one.
+        rho_fn(z) -> rho (kg/m^3), current_fn(z) -> u (m/s, shape z.shape + (3,)).
+        first_share: the part of the first element's load that goes to node 0 (the rest to
+            node 1); every other element shares its load equally (the drum element at a
+            fairlead lumps its mass the same way, see ``cable.drum.Drum.update``).
+        diameter, cd_normal, cd_tangential: scalars, or one per element (a line make-up).
+        area: displaced volume per metre of each element (m^2) if not pi d^2 / 4 (floats on it).
+        float_cd_area: extra normal drag area per metre of each element (m^2/m: floats), or None.
+    """
+    _, _, t = element_geometry(x)
+    zc = np.minimum(0.5 * (x[1:, 2] + x[:-1, 2]), 0.0)
+    frac, centre = wet_fraction(x[:-1, 2], x[1:, 2])
+    rho = rho_fn(zc)
+    vrel = current_fn(zc)
+    vrel -= 0.5 * (v[1:] + v[:-1])
+    # each of the element's two nodes takes half of its drag
+    half = 0.5 * morison_drag(t, vrel, rho, segment_length * frac, diameter, cd_normal, np.pi * np.asarray(cd_tangential),
+                              float_cd_area)
+    if area is None:
+        fb = (gravity * np.pi * diameter**2 / 4.0 * segment_length) * rho * frac
+    else:
+        fb = (gravity * area * segment_length) * rho * frac
+    f = np.empty_like(x)
+    f[:-1] = half
+    f[-1] = 0.0
+    f[1:] += half
+    f[:-1, 2] += (1.0 - centre) * fb
+    f[1:, 2] += centre * fb
+    if first_share != 0.5:  # move part of element 0's load from node 0 to node 1
+        shift = (1.0 - 2.0 * first_share) * half[0]
+        shift[2] += (1.0 - centre[0] - first_share) * fb[0]
+        f[0] -= shift
+        f[1] += shift
+    return f
+
+
+def bending_forces(x: np.ndarray, EI: float, segment_length: float) -> np.ndarray:
+    """Node forces (N) from the discrete bending energy sum_i (EI / l) (1 - t_{i-1} . t_i).
+
+    For small angles this is EI theta^2 / (2 l), the energy of a beam of curvature theta / l
+    over a length l.
+    """
+    f = np.zeros_like(x)
+    if np.all(np.asarray(EI) <= 0.0) or len(x) < 3:
+        return f
+    _, length, t = element_geometry(x)
+    k = EI / segment_length
+    if np.ndim(k):  # one per joint (a line make-up): as a column
+        k = np.asarray(k)[:, None]
+    a, b = t[:-1], t[1:]
+    la, lb = length[:-1, None], length[1:, None]
+    cos = np.einsum("ij,ij->i", a, b)[:, None]
+    # dE/de_a = -k (b - (a.b) a) / |e_a| ; dE/de_b = -k (a - (a.b) b) / |e_b|
+    ga = -k * (b - cos * a) / la
+    gb = -k * (a - cos * b) / lb
+    # e_j = x_{j+1} - x_j: force = -dE/dx
+    f[:-2] += ga
+    f[1:-1] -= ga
+    f[1:-1] += gb
+    f[2:] -= gb
+    return f
+
+
+def rigid_body_loads(
+    R: np.ndarray,
+    p_cob: np.ndarray,
+    v_cob: np.ndarray,
+    omega: np.ndarray,
+    *,
+    volume: float,
+    height: float,
+    drag_cd: np.ndarray,
+    drag_area: np.ndarray,
+    angular_drag: np.ndarray,
+    rho_fn,
+    current_fn,
+    gravity: float = 9.81,
+):
+    """Force (N) at the centre of buoyancy and torque (N m), world frame, on one rigid body.
+
+    Args:
+        R: body orientation (3x3, body to world).
+        p_cob, v_cob: world position (m) and velocity (m/s) of the centre of buoyancy.
+        omega: angular velocity (rad/s, world frame).
+        volume: displaced volume V (m^3) when fully submerged.
+        height: vertical extent (m) over which the body crosses the surface (partial
+            submersion is linear in the height of the centre of buoyancy over that band).
+        drag_cd, drag_area: C_d and projected area S (m^2) per body axis x, y, z.
+        angular_drag: c_k (N m s^2) per body axis, M_k = -c_k |w_k| w_k.
+    """
+    z = min(float(p_cob[2]), 0.0)
+    frac = min(max(0.5 - p_cob[2] / height, 0.0), 1.0) if height > 0 else float(p_cob[2] <= 0)
+    zz = np.array([z])
+    rho = float(rho_fn(zz)[0])
+    u = current_fn(zz)[0]
+    vrel_b = (u - v_cob) @ R  # R^T (u - v)
+    f_b = (0.5 * rho * frac) * drag_cd * drag_area * np.abs(vrel_b) * vrel_b
+    force = R @ f_b
+    force[2] += rho * gravity * volume * frac
+    w_b = omega @ R
+    torque = R @ (-frac * angular_drag * np.abs(w_b) * w_b)
+    return force, torque

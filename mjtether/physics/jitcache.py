@@ -1,0 +1,79 @@
+"""numba's on-disk cache for the package's kernels, keyed on the source of every kernel.
+
+numba keys a cached function on its own file's modification time and size. A kernel that calls
+(and inlines) a kernel of another module does not see that module change: after an edit to
+``compiled._density`` alone, ``quasistatic.kernels.hang_up`` ran the old density from the cache,
+bit for bit, until the cache folder was deleted (an editable install after a ``git pull`` does
+the same). Here every kernel of the package is stamped instead with one hash of the source of
+every module that defines kernels (each ``.py`` file of the package that uses ``jit``): any
+change to any of them recompiles them all, once.
+
+The cache lives where numba would put it: ``NUMBA_CACHE_DIR`` if set, else the package's
+``__pycache__`` folders, else numba's user-wide cache. Where numba's cache machinery is not
+what this module knows (another numba version), the kernels are compiled without a cache:
+slower to start, never stale.
+"""
+
+from __future__ import annotations
+
+import functools
+import hashlib
+import os
+from pathlib import Path
+
+PACKAGE = Path(__file__).resolve().parents[1]
+"""The ``mjtether`` package folder."""
+
+
+@functools.lru_cache(maxsize=1)
+def source_stamp() -> str:
+    """SHA-256 of the sources of every module of the package that uses ``jit`` (path and
+    contents, in path order)."""
+    h = hashlib.sha256()
+    for path in sorted(PACKAGE.rglob("*.py")):
+        text = path.read_bytes()
+        if b"jit" in text:
+            h.update(str(path.relative_to(PACKAGE)).encode() + b"\0" + text + b"\0")
+    return h.hexdigest()
+
+
+def _ours(py_file: str) -> bool:
+    try:
+        return Path(py_file).resolve().is_relative_to(PACKAGE)
+    except (OSError, ValueError):
+        return False
+
+
+def _install() -> bool:
+    """Put locators that stamp the package's kernels with ``source_stamp`` in front of numba's
+    own (for the package's files only). Returns False where numba's cache machinery is not the
+    one this was written for."""
+    try:
+        from numba.core import caching
+        locators = caching.CacheImpl._locator_classes
+        bases = (caching.UserProvidedCacheLocator, caching.InTreeCacheLocator, caching.UserWideCacheLocator)
+    except (ImportError, AttributeError):
+        return False
+    if not isinstance(locators, list) or any(getattr(c, "_mjtether", False) for c in locators):
+        return isinstance(locators, list)
+
+    def stamped(base):
+        class Locator(base):
+            _mjtether = True
+
+            def get_source_stamp(self):
+                return source_stamp()
+
+            @classmethod
+            def from_function(cls, py_func, py_file):
+                return super().from_function(py_func, py_file) if _ours(py_file) else None
+
+        Locator.__name__ = Locator.__qualname__ = "Mjtether" + base.__name__
+        return Locator
+
+    locators[:0] = [stamped(b) for b in bases]
+    return True
+
+
+CACHE = os.environ.get("NUMBA_DISABLE_CACHE", "").strip() not in ("1", "true") and _install()
+"""Whether the kernels are cached on disk (keyed on ``source_stamp``)."""

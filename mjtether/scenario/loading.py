@@ -1,0 +1,123 @@
+"""Reading and writing a scenario's TOML: ``load_scenario`` (a file, a text or a dict, with
+``--set``-style overrides) and ``to_toml`` (a checked ``Scenario`` back to TOML). The tree itself
+and its checks are ``sections``."""
+
+from __future__ import annotations
+
+import tomllib
+from pathlib import Path
+
+from .config import ConfigError, build, split_index, subsections, table_lists, unknown_key_message
+from .sections import Scenario, ScenarioError
+
+
+
+def load_scenario(path=None, *, text: str | None = None, data: dict | None = None, name: str | None = None,
+                  overrides=()) -> Scenario:
+    """A checked ``Scenario`` from a TOML file ``path``, TOML ``text`` or ``data`` (the nested
+    dict TOML would give); with none of them, the defaults. ``overrides``: ``"key.path=value"``
+    strings (values in TOML syntax; a bare word is a string), applied before checking, as
+    ``mjtether run --set`` does. ``name`` labels errors (default: the file name)."""
+    if name is None:
+        name = str(path) if path is not None else "<text>" if text is not None else "<data>"
+    if data is not None:
+        raw = _copy_tree(data)
+    elif text is not None or path is not None:
+        raw = _parse(name, _read(name, path) if text is None else text)
+    else:
+        raw = {}
+    for item in overrides:
+        _override(raw, item)
+    return build(Scenario, raw, name)
+
+
+def _read(name: str, path) -> str:
+    """The file's text: UTF-8 as TOML requires (a byte-order mark is allowed); any other
+    encoding is an error that says how to fix it."""
+    p = Path(path)
+    if p.is_dir():
+        raise ScenarioError(f"{name}: is a folder; give a scenario .toml file")
+    try:
+        raw = p.read_bytes()
+    except OSError as exc:
+        raise ScenarioError(f"{name}: cannot read the scenario ({exc.strerror})") from None
+    if raw.startswith((b"\xff\xfe", b"\xfe\xff")):
+        raise ScenarioError(f"{name}: is UTF-16 text; TOML files must be UTF-8 (save it as UTF-8)")
+    try:
+        return raw.decode("utf-8-sig")
+    except UnicodeDecodeError as exc:
+        line = raw[:exc.start].count(b"\n") + 1
+        raise ScenarioError(f"{name}: line {line}: byte 0x{raw[exc.start]:02x} is not UTF-8; TOML files must be "
+                            "UTF-8 (save it as UTF-8, e.g. iconv -f latin1 -t utf-8)") from None
+
+
+def _parse(name: str, text: str) -> dict:
+    try:
+        return tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise ScenarioError(f"{name}: not valid TOML: {exc}") from None
+
+
+def _copy_tree(d):
+    return {k: _copy_tree(v) for k, v in d.items()} if isinstance(d, dict) else d
+
+
+def _override(raw: dict, item: str) -> None:
+    """Apply one ``key.path=value`` to the raw tree (the key is checked when the tree is built;
+    sections must exist in the schema)."""
+    key, sep, value = str(item).partition("=")
+    key = key.strip()
+    if not sep or not key or any(not p.strip() for p in key.split(".")):
+        raise ScenarioError(f"--set {item!r}: must be KEY=VALUE, e.g. simulation.duration=10")
+    try:
+        v = tomllib.loads(f"v = {value.strip()}")["v"]
+    except tomllib.TOMLDecodeError:
+        v = value.strip()  # a bare word: a string (e.g. simulation.start=settle)
+    *sections, leaf = [p.strip() for p in key.split(".")]
+    node, cls = raw, Scenario
+    for i, part in enumerate(sections):
+        try:
+            s, index = split_index(part)
+        except ConfigError as exc:
+            raise ScenarioError(f"--set {key}: {exc}", key) from None
+        if index is not None:  # one table of an array of tables: tether.floats[0].start
+            lists = table_lists(cls)
+            if s not in lists:
+                raise ScenarioError(f"--set {key}: {unknown_key_message(cls, s)}", key)
+            items = node.get(s, [])
+            if not isinstance(items, list) or index >= len(items):
+                n = len(items) if isinstance(items, list) else 0
+                raise ScenarioError(f"--set {key}: the scenario has {n} [[{lists[s].PATH}]] table(s), numbered "
+                                    f"from 0; {part} is not one of them", key)
+            node, cls = items[index], lists[s]
+            continue
+        subs = subsections(cls)
+        if s not in subs:
+            raise ScenarioError(f"--set {key}: {unknown_key_message(cls, s)}", key)
+        cls = subs[s]
+        nxt = node.setdefault(s, {})
+        if not isinstance(nxt, dict):
+            raise ScenarioError(f"--set {key}: {'.'.join(sections[:i + 1])} is not a section", key)
+        node = nxt
+    node[leaf] = v
+
+
+def to_toml(sc: Scenario) -> str:
+    """The scenario as a TOML file: the keys that differ from their defaults (and the robot's
+    type), section by section; ``load_scenario`` reads it back to the same scenario."""
+    import tomli_w
+
+    def diff(now: dict, default: dict) -> dict:
+        out = {}
+        for k, v in now.items():
+            if isinstance(v, dict):
+                sub = diff(v, default[k])
+                if sub:
+                    out[k] = sub
+            elif v is not None and v != default[k]:
+                out[k] = v
+        return out
+
+    tree = diff(sc.to_dict(), Scenario().to_dict())
+    tree.setdefault("robot", {})["type"] = sc.robot.type
+    return tomli_w.dumps(tree)

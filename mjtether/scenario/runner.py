@@ -1,0 +1,385 @@
+"""Run a scenario: build its scene, start it, step its controllers and physics, and record.
+
+A ``ScenarioRun`` is made of small parts a reader can follow from TOML to CSV:
+
+* ``scene``: the typed configuration as an ``MjSpec`` (water, seabed, ship, the robot end) and
+  the library's objects (water column, tether or line make-up, winch, ship kinematics);
+* ``start``: the walker's standing pose, the tether's quasi-static steady state (or a settling
+  start), the pre-roll that loads the seabed contacts before t = 0;
+* ``controllers``: the gait, the ship and the winch, each updated before every physics step;
+* ``readouts``: the named readouts (``run.named``) that the record (``RECORD_FIELDS``), the
+  plots, the renderer and the environments read.
+
+``run()`` steps a scenario to its end and returns the records.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+
+import mujoco
+import numpy as np
+
+from mjtether.cable import builder
+from mjtether.scenario import start
+from .controllers import GaitDrive, Manoeuvre, PathDrive, Ship, VehiclePilot, VesselFollow, WinchDrive  # noqa: F401 - Ship: the run's ship kinematics
+from .readouts import RECORD_FIELDS, Readouts, roll_pitch  # noqa: F401 - the record's columns
+from mjtether.scenario import Scenario
+from .scene import VEHICLE, build_scene, heading_quat, makeup_from, tether_from, vehicle_tow_point  # noqa: F401
+from .scene import water_from, winch_from  # noqa: F401
+from mjtether.simulation import Simulation
+
+
+def manoeuvre_from(robot, vs) -> Manoeuvre | None:
+    """The scenario's manoeuvre (``robot.manoeuvre``) for the vehicle ``vs``, or None."""
+    if robot.manoeuvre == "none":
+        return None
+    yaw = sum(f.yaw_per_angle for f in vs.fins)  # a positive rudder's yaw moment: its sign turns the vehicle
+    return Manoeuvre(robot.manoeuvre, robot.manoeuvre_start_s, math.radians(robot.rudder_deg),
+                     math.radians(robot.zigzag_heading_deg), [math.radians(a) for a in robot.spiral_rudders_deg],
+                     robot.spiral_step_s, turn_sign=math.copysign(1.0, yaw))
+
+
+class RunFailed(RuntimeError):
+    """The run stopped: divergence, or the tether's rated load was exceeded."""
+
+
+class ScenarioRun:
+    """A compiled scenario, ready to step: ``step()`` advances one time step (the controllers,
+    then the physics); ``named`` holds its readouts; ``record()`` returns one row of
+    ``RECORD_FIELDS``."""
+
+    def __init__(self, sc: Scenario):
+        self.sc = sc
+        self.scene = scene = build_scene(sc)
+        self.water, self.tether_spec, self.makeup = scene.water, scene.tether_spec, scene.makeup
+        self.line, self.winch, self.ship, self.walker = scene.line, scene.winch, scene.ship, scene.walker
+        dt = sc.simulation.timestep
+        spec = scene.spec
+        self.gait_drive = self.pilot = self.vehicle = None
+        self.is_vehicle = scene.vehicle is not None
+        if self.walker:
+            r = sc.robot
+            commands = np.array(r.commands, dtype=float)  # (s, m/s, rad/s)
+            commands[:, 2] = np.radians(commands[:, 2])
+            self.gait_drive = GaitDrive(commands, r.gait_period, scene.heading)
+            # the walker stands on the seabed first, alone; the tether's steady state is solved to
+            # its tow point standing, and the run starts with the walker in that pose
+            self.stand_pose, self.stand_ctrl, robot = start.stand_walker(scene, self.gait_drive.gait, dt)
+            end = builder.SitePoint("walker/tow_point")
+        elif self.is_vehicle:  # the tether is solved to its tow point at the start
+            robot = vehicle_tow_point(scene)
+            end = builder.SitePoint(f"{VEHICLE}/tow_point")
+        else:
+            robot = scene.anchor_point()
+            end = builder.FixedPoint(robot)
+        self.robot_position = robot
+        self.tethered = sc.tether.attached
+        top = scene.fairlead_start()
+        empty = self.tethered and sc.winch.start_empty
+        if empty:
+            start.check_at_fairlead(top, robot, sc.robot.position)
+            self.initial, self.initial_note = None, "nothing deployed: the vehicle starts at the fairlead"
+        elif self.tethered:
+            self.initial, self.initial_note = start.steady_start(scene, top, robot, dt)
+        else:
+            self.initial, self.initial_note = None, "no tether: the vehicle runs alone, level and at rest"
+        how = sc.simulation.start
+        if not self.tethered or empty:
+            settle = False
+        elif how == "settle" or (how == "auto" and self.initial is None):
+            settle, self.initial = True, None
+            held = "on its autopilot" if self.is_vehicle else "held"
+            self.initial_note = f"settled with the robot {held}" + (
+                "" if how == "settle" else f" (no steady state: {self.initial_note})")
+        elif self.initial is None:
+            raise RunFailed(f"no consistent start: {self.initial_note}; set simulation.start = \"settle\" to let "
+                            "the cable fall into place while the robot is held")
+        else:
+            settle = False
+        if settle and self.walker:  # held in place while the cable settles
+            hold = spec.add_equality(name="walker/hold", type=mujoco.mjtEq.mjEQ_WELD, objtype=mujoco.mjtObj.mjOBJ_BODY,
+                                     name1="walker/torso")
+            hold.active = True
+        self.tm = None
+        if self.tethered:
+            if empty:  # every node at the fairlead; set_length(0) below stows them on the drum
+                nodes = np.tile(top, (self.line.segments + 1, 1))
+            else:
+                nodes = start.fallback_nodes(scene, top, robot) if settle else self.initial.nodes
+            self.tm = builder.add_tether(spec, self.line, builder.SitePoint("ship/fairlead"), end,
+                                         water=self.water, nodes=nodes, seabed_friction=sc.tether.seabed_friction,
+                                         seabed_stiffness=sc.water.seabed_stiffness or None,
+                                         seabed_damping=sc.water.seabed_damping,
+                                         max_length=None if self.makeup is not None else self.winch.max_length,
+                                         end_at=robot if self.walker or self.is_vehicle else None,
+                                         added_mass=sc.tether.added_mass,
+                                         start_at=top)  # (the fairlead's place: no compile to find it)
+        self.sim = Simulation(spec, self.water, tethers=[self.tm] if self.tethered else [], bodies=scene.bodies)
+        self._ship_tension = (-1, 0.0)  # (simulation revision, N): see ship_end_tension
+        self.ship_pilot = None
+        try:
+            if scene.vessel is not None:  # the vessel: level at its start heading, on its autopilot
+                self.ship_pilot = self._vessel_pilot(scene)
+            if self.is_vehicle:  # level, at its start heading, at rest
+                m = self.sim.model
+                adr = m.joint(f"{VEHICLE}/ball").qposadr[0]
+                self.sim.data.qpos[adr:adr + 4] = heading_quat(scene.heading)
+                self.sim.forward()
+                self.vehicle = self.sim.bodies[-1]
+                vs, sp = scene.vehicle, np.array(sc.robot.setpoints, dtype=float)
+                sp[:, 2] = np.radians(sp[:, 2])
+                acts = np.array([m.actuator(f"{VEHICLE}/{t.name}").id for t in vs.thrusters], dtype=int)
+                r = sc.robot
+                fins = np.array([m.actuator(f"{VEHICLE}/{f.name}").id for f in vs.fins], dtype=int)
+                prop = None if vs.propeller is None else m.actuator(f"{VEHICLE}/{vs.propeller.name}").id
+                if r.path is not None:  # moved along its path instead of flown
+                    rows = np.array(r.path, dtype=float)
+                    rows[:, 2:] = np.radians(rows[:, 2:])
+                    self.pilot = PathDrive(rows, r.position, r.position, m, self.vehicle)
+                else:
+                    self.pilot = VehiclePilot(sp, vs.autopilot, vs.thrusters, acts, route=r.waypoints,
+                                              start=r.position, lookahead=r.lookahead,
+                                              acceptance_radius=r.acceptance_radius, fins=vs.fins, fin_actuators=fins,
+                                              propeller=vs.propeller, propeller_actuator=prop,
+                                              manoeuvre=manoeuvre_from(r, vs), surface=vs.hydro.surface is not None,
+                                              los_integral_gain=r.los_integral_gain,
+                                              interpolate=r.setpoint_interpolation == "linear",
+                                              pitch_schedule=None if r.pitch_schedule is None else
+                                              [(t, math.radians(a)) for t, a in r.pitch_schedule])
+            if self.initial is not None:  # the steady state's seabed friction, carried into the run
+                self.sim.tether().preload_friction(self.sim.data, self.initial.tension)
+            self.bt = self.sim.tether() if self.tethered else None
+            if empty:
+                self.bt.set_length(0.0, rate=0.0)
+                self.winch.length = 0.0
+                self.sim.forward()
+            self.named = Readouts(self)
+            self.torso, self.tow_site = self.named.torso, self.named.tow_site
+            if self.gait_drive is not None:
+                self.gait_drive.bind(self.sim.model, self.sim.data, self.torso)
+            # the order they act in at each step: the gait or autopilot, then the ship, then the winch
+            winch = WinchDrive(self.winch) if self.tethered else None
+            ship = self.ship if self.ship_pilot is None else self.ship_pilot
+            self.controllers = [c for c in (self.gait_drive, self.pilot, ship, winch) if c is not None]
+            if self.tethered and not empty:  # (alone, or on an empty drum, a vehicle starts as placed: there
+                start.preroll(self, settle)   # are no contacts to load)
+        except BaseException:
+            self.sim.close()  # a run that cannot start leaves nothing registered
+            raise
+        self.rated_load = sc.tether.rated_load
+
+    def _vessel_pilot(self, scene):
+        """Turn the vessel to ``ship.heading_deg`` and give it its autopilot: station on
+        ``ship.position`` (fixed), ``ship.waypoints`` at ``ship.speed`` by line-of-sight guidance,
+        then station on the last (waypoints), or a station ``ship.offset`` from the robot, moving
+        with it (follow: a ``VesselFollow``)."""
+        m, s = self.sim.model, self.sc.ship
+        adr = m.joint("ship/ball").qposadr[0]
+        heading = math.radians(s.heading_deg)
+        self.sim.data.qpos[adr:adr + 4] = heading_quat(heading)
+        self.sim.forward()
+        body = next(b for b in self.sim.bodies if getattr(b, "name", None) == "ship")
+        vs = scene.vessel
+        acts = np.array([m.actuator(f"ship/{t.name}").id for t in vs.thrusters], dtype=int)
+        route = None if s.mode != "waypoints" else [[x, y, 0.0, s.speed] for x, y in s.waypoints]
+        pilot = VehiclePilot(np.array([[0.0, 0.0, heading, 0.0]]), vs.autopilot, vs.thrusters, acts, route=route,
+                             start=s.position, lookahead=self.sc.robot.lookahead,
+                             acceptance_radius=self.sc.robot.acceptance_radius, surface=True, body=body)
+        if route is None:
+            pilot.station = (float(s.position[0]), float(s.position[1]), 0.0, heading)
+        if s.mode == "follow":  # the station moves with the robot, ship.offset from it
+            return VesselFollow(pilot, s.offset, heading)
+        return pilot
+
+    @property
+    def end_diameter(self) -> float:
+        """Diameter (m) of the cable at the robot end (of the last section of a make-up)."""
+        return self.scene.end_diameter
+
+    def seabed_z(self, x, y):
+        """Height (m) of the (possibly sloped) seabed at ``x``, ``y`` (m)."""
+        return self.scene.seabed_z(x, y)
+
+    # ------------------------------------------------------------------ commands
+
+    def set_command(self, speed: float, turn_rate: float) -> None:
+        """Command the walker directly (m/s, rad/s), overriding the schedule from now on."""
+        self.gait_drive.set_command(speed, turn_rate)
+
+    def release_pilot(self) -> None:
+        """Hand a vehicle's actuators to the caller (e.g. a Gymnasium agent): its autopilot stops
+        commanding them, and whatever is written to ``sim.data.ctrl`` is flown."""
+        if self.pilot is None:
+            raise RuntimeError("release_pilot: the robot is not a vehicle")
+        if self.pilot in self.controllers:
+            self.controllers.remove(self.pilot)
+
+    @property
+    def heading_ref(self) -> float | None:
+        """The walker's commanded heading (rad): its turn rate integrated (None for an anchor)."""
+        return None if self.gait_drive is None else self.gait_drive.heading_ref
+
+    # ------------------------------------------------------------------ stepping
+
+    def step(self) -> None:
+        """One time step: every controller, then the physics; raises ``RunFailed`` if the
+        ship-end tension exceeds the tether's rated load."""
+        sim, dt = self.sim, self.sim.timestep
+        t = sim.time
+        for c in self.controllers:
+            c.update(self, t, dt)
+        sim.step()
+        if self.bt is None:
+            return
+        tension = self.ship_end_tension()
+        if tension > self.rated_load:
+            raise RunFailed(f"ship-end tension {tension:.0f} N exceeded the "
+                            f"tether's rated load {self.rated_load:g} N at t = {sim.time:.2f} s")
+
+    def ship_end_tension(self) -> float:
+        """The ship-end tension (N) now: read once per state of the simulation (``step``'s
+        rated-load check reads it after the physics, the winch's law again before the next)."""
+        rev = self.sim.revision
+        if self._ship_tension[0] != rev:
+            self._ship_tension = (rev, self.bt.end_tension(self.sim.data, "start"))
+        return self._ship_tension[1]
+
+    # ------------------------------------------------------------------ readouts
+
+    def robot_state(self):
+        """(tow point position, yaw (rad), horizontal speed (m/s), body rotation matrix)."""
+        return self.named.robot_state()
+
+    def record(self) -> list:
+        """One row of ``RECORD_FIELDS``."""
+        return self.named.record()
+
+    def length_on_seabed(self, x: np.ndarray | None = None) -> float:
+        """Unstretched tether length (m) lying on the seabed (see ``Readouts.length_on_seabed``)."""
+        return self.named.length_on_seabed(x)
+
+    def element_record(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(every node (n+1, 3) m, element tension (n,) N, element length (n,) m), numbered
+        from the drum's core; nodes on the drum at the fairlead, their elements 0."""
+        n = self.named
+        return n.element_nodes, n.element_tension, n.element_length
+
+    def close(self) -> None:
+        self.sim.close()
+
+
+class TangleMonitor:
+    """The tangle monitor's thresholds (``tangle`` in the scenario) checked at each recorded
+    sample: an event when the cable comes within ``clearance_m`` of a vehicle, or within
+    ``self_clearance_m`` of itself or crosses itself in plan view (logged once each time it goes
+    in, with the time and the place); with ``stop``, the first event ends the run."""
+
+    def __init__(self, cfg):
+        self.cfg = cfg
+        self.events = []
+        self.stopped = ""
+        self._inside = {"vehicle": False, "self": False}
+
+    def check(self, run) -> bool:
+        """Check the state just recorded (``run.named.last_tangle``); True to stop the run."""
+        t = run.named.last_tangle
+        if t is None:
+            return False
+        now = {"vehicle": self.cfg.clearance_m > 0 and t["clearance"] < self.cfg.clearance_m,
+               "self": self.cfg.self_clearance_m > 0 and (t["self_clearance"] < self.cfg.self_clearance_m
+                                                          or t["plan_crossings"] > 0)}
+        new = False
+        for kind, inside in now.items():
+            if inside and not self._inside[kind]:
+                key, limit = ("clearance", self.cfg.clearance_m) if kind == "vehicle" else \
+                    ("self_clearance", self.cfg.self_clearance_m)
+                where = "a vehicle" if kind == "vehicle" else "itself"
+                self.events.append({"time_s": float(run.sim.time), "kind": kind, "clearance_m": float(t[key]),
+                                    "place_m": [float(v) for v in t[f"{key}_at"]],
+                                    "plan_crossings": int(t["plan_crossings"]),
+                                    "what": (f"the cable within {t[key]:.2f} m of {where}" if t[key] >= 0.0 else
+                                             f"the cable through {where} ({t[key]:.2f} m)")
+                                    + f" (threshold {limit:g} m)"
+                                    + (f", {t['plan_crossings']} crossing(s) in plan view"
+                                       if kind == "self" and t["plan_crossings"] else "")})
+                new = True
+            self._inside[kind] = inside
+        if new and self.cfg.stop and not self.stopped:
+            e = self.events[-1]
+            self.stopped = f"tangle.stop: {e['what']} at t = {e['time_s']:.2f} s"
+            return True
+        return False
+
+
+def run(sc: Scenario, progress=None, keep_nodes: bool = True, video=None, on_start=None, on_end=None):
+    """Simulate ``sc``; returns (rows (n, len(RECORD_FIELDS)), history, info). ``history`` has
+    ``nodes`` (n, e+1, 3) m, ``tension`` (n, e) N and ``element_length`` (n, e) m for every one
+    of the e elements allocated (numbered from the drum's core; see ``element_record``), each
+    sample (only the first with ``keep_nodes=False``).
+    ``progress(k, n)`` is called as it goes. ``video(runner)`` makes a ``render.VideoRecorder``
+    for the built run; frames are then taken as they fall due and the file is finished, or
+    deleted if the run fails. ``on_start(runner)`` is called once the run is built and started,
+    ``on_end(runner)`` after its last step (not if it fails), e.g. to read what the records do
+    not hold. Raises ``RunFailed`` (or ``SimulationDiverged``)."""
+    dt = sc.simulation.timestep
+    n_steps = int(round(sc.simulation.duration / dt))
+    every = max(1, int(round(sc.simulation.output_interval / dt)))
+    rows, hist = [], []
+    t0 = time.perf_counter()
+    runner = ScenarioRun(sc)
+    rec = None
+    try:
+        if on_start is not None:
+            on_start(runner)
+        rec = video(runner) if video is not None else None
+        rows.append(runner.record())
+        hist.append(runner.element_record())
+        monitor = TangleMonitor(sc.tangle) if runner.tethered else None
+        if monitor is not None:
+            monitor.check(runner)
+        if rec is not None and rec.due(runner.sim.time):
+            rec.capture()
+        for k in range(1, n_steps + 1):
+            runner.step()
+            stop = False
+            if k % every == 0:
+                rows.append(runner.record())
+                if keep_nodes:
+                    hist.append(runner.element_record())
+                stop = monitor is not None and monitor.check(runner)
+            if rec is not None and rec.due(runner.sim.time):
+                rec.capture()
+            if progress and (k % every == 0 or k == n_steps or stop):
+                progress(k, n_steps)
+            if stop:
+                n_steps = k
+                break
+        wall = time.perf_counter() - t0
+        rows = np.array(rows)
+        if not np.all(np.isfinite(rows)):
+            raise RunFailed("the run produced non-finite values")
+        if on_end is not None:
+            on_end(runner)
+        if rec is not None:
+            rec.finish()
+    except BaseException:
+        if rec is not None:
+            rec.abort()
+        raise
+    finally:
+        runner.close()
+    info = {"initial_state": runner.initial_note, "tethered": runner.tethered, "vehicle": bool(runner.named.hulls),
+            "wall_time_s": wall, "simulated_s": n_steps * dt,
+            "realtime_factor": n_steps * dt / wall if wall > 0 else math.inf, "steps": n_steps}
+    if monitor is not None:
+        info["tangle_events"] = monitor.events
+        if monitor.stopped:
+            info["stopped"] = monitor.stopped
+    if rec is not None:
+        info["video"] = {"file": str(rec.path), "frames": rec.frames, "fps": rec.s.fps, "camera": rec.s.camera,
+                         "tension_scale_N": rec.scale}
+    history = {"nodes": np.array([h[0] for h in hist]), "tension": np.array([h[1] for h in hist]),
+               "element_length": np.array([h[2] for h in hist])}
+    return rows, history, info

@@ -1,0 +1,220 @@
+"""A scenario's scene as an ``MjSpec``: the water, the (possibly sloped) seabed, the ship, and the
+robot end (a walker standing on the seabed, a free-swimming vehicle from its vehicle file, or an
+anchor point); and the typed configuration's water column, tether, line make-up and winch as the
+library's objects.
+
+The tether itself is added once its start is known (``start``), by ``runner.ScenarioRun``.
+
+The ship is a mocap body at the surface whose site ``ship/fairlead`` holds the tether's node 0;
+a mocap body has no velocity, so the soft ``connect`` trails a moving ship by about 4 dt times
+its speed. With ``ship.vessel`` it is a surface vessel instead (a body ``ship`` from its vehicle
+file, floating on its hydrostatics, flown by its autopilot), the fairlead at its tow point.
+Units SI, world frame (z up, surface z = 0); the scenario's degrees become radians here.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import mujoco
+import numpy as np
+
+from mjtether.cable import builder
+from mjtether.physics import water as wm
+from .controllers import Ship
+from mjtether.cable.makeup import LineMakeup
+from mjtether.physics.rigidbody import add_body_hydro
+from mjtether.scenario import Scenario
+from mjtether.cable.tether import TetherSpec
+from mjtether.vehicles.files import VehicleSpec, build_vehicle, load_vehicle
+from mjtether.walker import HYDRO as WALKER_HYDRO
+from mjtether.walker import walker_spec
+from mjtether.cable.winch import Winch
+
+WALKER_STAND_HEIGHT = 0.9
+"""Height (m) of the walker's torso above the seabed when it is placed."""
+VEHICLE = "vehicle"
+"""Name of a vehicle robot's body (its actuators and sites are prefixed ``vehicle/``)."""
+
+
+def water_from(sc: Scenario) -> wm.WaterColumn:
+    """The scenario's water column (headings from degrees to radians)."""
+    d, c = sc.water.density, sc.water.current
+    if d.type == "constant":
+        density = wm.ConstantDensity(d.rho)
+    elif d.type == "linear":
+        density = wm.LinearDensity(d.rho_surface, d.rho_ref, d.depth_ref)
+    else:
+        density = wm.TabulatedDensity(d.depths, d.values)
+    heading = math.radians(c.heading_deg)
+    if c.type == "constant":
+        current = wm.ConstantCurrent(c.speed, heading)
+    elif c.type == "linear":
+        current = wm.LinearCurrent(c.surface_speed, c.bottom_speed, c.bottom_depth, heading=heading)
+    elif c.type == "exponential":
+        current = wm.ExponentialCurrent(c.surface_speed, c.decay_depth, heading)
+    elif c.type == "power":
+        current = wm.PowerLawCurrent(c.surface_speed, sc.water.depth, c.exponent, heading)
+    else:
+        headings = None if c.headings_deg is None else [math.radians(h) for h in c.headings_deg]
+        current = wm.TabulatedCurrent(c.depths, c.speeds, headings)
+    return wm.WaterColumn(depth=sc.water.depth, density=density, current=current, gravity=sc.water.gravity)
+
+
+def tether_from(sc: Scenario) -> TetherSpec:
+    t = sc.tether
+    return TetherSpec(length=t.length, segments=t.segments, diameter=t.diameter,
+                      density=None if t.mass_per_length > 0 else t.density,
+                      mass_per_length=t.mass_per_length or None, cd_normal=t.cd_normal,
+                      cd_tangential=t.cd_tangential, ca_normal=t.ca_normal, EA=t.EA or None, EI=t.EI,
+                      added_mass=t.added_mass)
+
+
+def makeup_from(sc: Scenario) -> LineMakeup | None:
+    """The scenario's line make-up (sections, point loads, floats), or None for a uniform tether.
+    Point loads and floats on a uniform tether make a one-section make-up of it."""
+    t = sc.tether
+    if not t.is_makeup:
+        return None
+    sections = [x.to_makeup() for x in t.sections] or list(LineMakeup.uniform(tether_from(sc)).sections)
+    return LineMakeup(sections, [p.to_makeup() for p in (*t.point_loads, *t.floats)])
+
+
+def winch_from(sc: Scenario) -> Winch:
+    w = sc.winch
+    return Winch(length=sc.tether.length, mode=w.mode, min_length=w.min_length, max_length=w.max_length,
+                 rate=w.rate, max_rate=w.max_rate, max_accel=w.max_accel, band=w.band, drum_damping=w.drum_damping)
+
+
+@dataclass
+class Scene:
+    """A scenario's parts before the tether is added: the spec (seabed, ship, robot end), the
+    water, the line, the winch and the ship's kinematics."""
+
+    sc: Scenario
+    spec: mujoco.MjSpec
+    water: wm.WaterColumn
+    tether_spec: TetherSpec
+    makeup: LineMakeup | None
+    winch: Winch
+    ship: Ship
+    slope: float  # rad
+    slope_heading: float  # rad
+    walker: bool
+    heading: float | None  # rad, the walker's or vehicle's heading at the start
+    bodies: list = field(default_factory=list)  # rigid-body hydrodynamics (a vessel, the walker's torso, a vehicle)
+    vehicle: VehicleSpec | None = None  # a vehicle robot's parameter file
+    vessel: VehicleSpec | None = None  # the surface vessel carrying the winch (ship.vessel), if any
+
+    @property
+    def line(self):
+        """What the quasi-static solver and the builder take: the make-up, or the uniform cable."""
+        return self.makeup if self.makeup is not None else self.tether_spec
+
+    @property
+    def end_diameter(self) -> float:
+        """Diameter (m) of the cable at the robot end (of the last section of a make-up)."""
+        return float(self.makeup.element_diameter[-1]) if self.makeup is not None else self.tether_spec.diameter
+
+    def fairlead_start(self) -> np.ndarray:
+        """Where the tether leaves the ship at the start (m, world): the prescribed ship's
+        fairlead, or a vessel's tow point, the vessel level at ``ship.heading_deg``."""
+        if self.vessel is None:
+            return np.array(self.spec.body("ship").pos, dtype=float)
+        R = np.zeros(9)
+        mujoco.mju_quat2Mat(R, heading_quat(math.radians(self.sc.ship.heading_deg)))
+        x, y = self.sc.ship.position
+        return np.array([x, y, 0.0]) + R.reshape(3, 3) @ np.asarray(self.vessel.tow_point, dtype=float)
+
+    def seabed_z(self, x, y):
+        """Height (m) of the (possibly sloped) seabed at ``x``, ``y`` (m)."""
+        return builder.seabed_height(self.water, x, y, self.slope, self.slope_heading)
+
+    def anchor_point(self) -> np.ndarray:
+        """An anchor's tow point (m, world): the scenario's position, the cable's axis held at
+        least one radius above a seabed there."""
+        robot = np.array(self.sc.robot.position, dtype=float)
+        radius = self.end_diameter / 2
+        robot[2] = max(robot[2], self.seabed_z(robot[0], robot[1]) + radius / math.cos(self.slope))
+        return robot
+
+
+def build_scene(sc: Scenario) -> Scene:
+    """The scenario's spec (options, seabed, ship, the walker placed on the seabed or the vehicle
+    at its start, if the robot is one) and the objects the run needs; the tether is added by the
+    run."""
+    water = water_from(sc)
+    wsc = sc.water
+    slope, slope_heading = math.radians(wsc.seabed_slope_deg), math.radians(wsc.seabed_slope_heading_deg)
+    spec = seabed_spec(water, sc.simulation.timestep, wsc.seabed_friction, slope, slope_heading)
+    ship = Ship.from_scenario(sc)
+    r = sc.robot
+    walker = r.type == "walker"
+    scene = Scene(sc, spec, water, tether_from(sc), makeup_from(sc), winch_from(sc), ship, slope, slope_heading,
+                  walker, math.radians(r.heading_deg) if r.type in ("walker", "vehicle") else None)
+    if sc.ship.vessel:  # a surface vessel carries the winch; its tow point is the fairlead
+        scene.vessel = load_vehicle(sc.ship.vessel)
+        x, y = sc.ship.position
+        scene.bodies.append(build_vehicle(spec, scene.vessel, "ship", pos=(x, y, 0.0)))
+        spec.body("ship").add_site(name="ship/fairlead", pos=list(scene.vessel.tow_point))
+    else:
+        body = spec.worldbody.add_body(name="ship", mocap=True, pos=ship.advance(0.0, 0.0, np.zeros(3)))
+        body.add_site(name="ship/fairlead")
+        body.add_geom(type=mujoco.mjtGeom.mjGEOM_BOX, size=[4.0, 1.5, 1.0], pos=[0, 0, 1.0], contype=0,
+                      conaffinity=0, rgba=[0.8, 0.8, 0.85, 1])
+    if walker:
+        add_walker(scene)
+    elif r.type == "vehicle":
+        scene.vehicle = load_vehicle(r.vehicle)
+        scene.bodies.append(build_vehicle(spec, scene.vehicle, VEHICLE, pos=r.position))
+    return scene
+
+
+def heading_quat(heading: float) -> np.ndarray:
+    """The quaternion (w, x, y, z) of a turn by ``heading`` (rad) about z: a level body facing it."""
+    return np.array([math.cos(heading / 2), 0.0, 0.0, math.sin(heading / 2)])
+
+
+def vehicle_tow_point(scene: Scene) -> np.ndarray:
+    """A vehicle's tow point at the start (m, world): its origin at robot.position, level, at
+    the start heading."""
+    R = np.zeros(9)
+    mujoco.mju_quat2Mat(R, heading_quat(scene.heading))
+    return np.asarray(scene.sc.robot.position, dtype=float) + R.reshape(3, 3) @ np.asarray(scene.vehicle.tow_point)
+
+
+def seabed_spec(water: wm.WaterColumn, timestep: float, friction: float, slope: float = 0.0,
+                slope_heading: float = 0.0) -> mujoco.MjSpec:
+    """A scenario's spec before its ship and robot: the options (``timestep`` in s, the
+    implicit-fast integrator, the water's gravity) and the seabed (``builder.add_seabed``)."""
+    spec = mujoco.MjSpec()
+    spec.option.timestep = timestep
+    spec.option.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST
+    spec.option.gravity = [0.0, 0.0, -water.gravity]
+    spec.modelname = "mjtether_scenario"
+    builder.add_seabed(spec, water, friction=friction, slope=slope, slope_heading=slope_heading)
+    return spec
+
+
+def add_walker(scene: Scene) -> None:
+    """Attach the walker at the scenario's start, facing the commanded heading (see ``place_walker``)."""
+    x, y = scene.sc.robot.start
+    scene.bodies.append(place_walker(scene.spec, (x, y, float(scene.seabed_z(x, y))), scene.heading))
+
+
+def place_walker(spec: mujoco.MjSpec, seabed_point, heading: float):
+    """Attach the walker (``walker/`` prefix) over ``seabed_point`` (m, world; on the seabed
+    geom ``seabed``), its torso ``WALKER_STAND_HEIGHT`` over the seabed, its legs square to a
+    sloped seabed, facing ``heading`` (rad from +x); returns its rigid-body hydrodynamics."""
+    tilt = np.array(spec.geom("seabed").quat)
+    quat = np.zeros(4)
+    mujoco.mju_mulQuat(quat, tilt, heading_quat(heading))
+    normal = np.zeros(9)
+    mujoco.mju_quat2Mat(normal, tilt)
+    torso = walker_spec().body("torso")
+    # (the torso sits at its own height in walker.xml, which the frame carries along the normal)
+    lift = WALKER_STAND_HEIGHT - float(torso.pos[2])
+    frame = spec.worldbody.add_frame(pos=np.asarray(seabed_point, dtype=float) + lift * normal[[2, 5, 8]], quat=quat)
+    frame.attach_body(torso, "walker/", "")
+    return add_body_hydro(spec, "walker/torso", WALKER_HYDRO)

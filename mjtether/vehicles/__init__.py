@@ -1,0 +1,10 @@
+"""Free-swimming and surface vehicles.
+
+* ``fossen``: Fossen's manoeuvring terms (rigid-body and added-mass Coriolis, damping);
+* ``vehicle``: a vehicle body in MuJoCo, its hydrodynamics through the compiled wrench;
+* ``files``: vehicle parameter files (``load_vehicle``; shipped ones in ``assets/vehicles``);
+* ``thruster``, ``propeller``, ``fins``: actuators.
+
+Imports: the physics and ``mjtether.io.packagedata``; never the cable, the scenario, the CLI or
+the environments.
+"""

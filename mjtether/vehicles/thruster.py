@@ -1,0 +1,107 @@
+"""Propeller thrusters as MuJoCo actuators: a force along a site's x axis on the hull, with a
+first-order response and asymmetric saturation, and the thrust curve that turns a control
+voltage into the thrust asked of it (dead zone, different forward and reverse maxima).
+
+The actuator's control is the thrust wanted (N); MuJoCo clips it to [-max_reverse, max_forward]
+(``ctrlrange``) and lags it by ``time_constant`` (its ``filterexact`` activation is the thrust
+delivered). A ``ThrustCurve`` gives that control from a command voltage as the thruster tests
+of Hong et al. (2020, J. Mar. Sci. Eng. 8, 485) measure it: no thrust inside a dead zone,
+linear beyond it up to the forward and reverse maxima.
+
+Units SI (thrust N; the papers' kgf are converted at the edges); body frame x forward, y left,
+z up.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import mujoco
+import numpy as np
+
+from mjtether import _checks
+
+KGF = 9.80665
+"""Newtons per kilogram-force."""
+
+
+@dataclass(frozen=True)
+class ThrustCurve:
+    """Thrust (N) against control voltage (V): zero between ``dead_low`` and ``dead_high``,
+    rising linearly to ``max_forward`` at ``v_max`` and to ``-max_reverse`` at ``v_min``
+    (Hong et al. 2020 linearise their measured curves so)."""
+
+    v_min: float
+    dead_low: float
+    dead_high: float
+    v_max: float
+    max_forward: float  # N
+    max_reverse: float  # N, > 0: the largest thrust backwards
+
+    def __post_init__(self):
+        if not (self.v_min < self.dead_low <= self.dead_high < self.v_max):
+            raise ValueError(f"thrust curve voltages must satisfy v_min < dead_low <= dead_high < v_max, got "
+                             f"{self.v_min}, {self.dead_low}, {self.dead_high}, {self.v_max} V")
+        _checks.positive("thrust curve max_forward", self.max_forward, "N")
+        _checks.positive("thrust curve max_reverse", self.max_reverse, "N")
+
+    def thrust(self, voltage) -> np.ndarray:
+        """Thrust (N) for ``voltage`` (V), clipped to the curve's range."""
+        v = np.clip(np.asarray(voltage, dtype=float), self.v_min, self.v_max)
+        fwd = self.max_forward * (v - self.dead_high) / (self.v_max - self.dead_high)
+        rev = -self.max_reverse * (self.dead_low - v) / (self.dead_low - self.v_min)
+        return np.where(v > self.dead_high, fwd, np.where(v < self.dead_low, rev, 0.0))
+
+
+@dataclass(frozen=True)
+class Thruster:
+    """A thruster on a hull: its thrust acts at ``position`` (m, body frame) along the unit
+    ``direction`` (body frame); at most ``max_forward`` N forwards and ``max_reverse`` N
+    backwards; the delivered thrust follows the command with ``time_constant`` (s)."""
+
+    name: str
+    position: tuple
+    direction: tuple
+    max_forward: float
+    max_reverse: float
+    time_constant: float = 0.1
+
+    def __post_init__(self):
+        object.__setattr__(self, "position", tuple(_checks.vector3(f"{self.name}.position", self.position)))
+        d = np.asarray(_checks.vector3(f"{self.name}.direction", self.direction))
+        if np.linalg.norm(d) < 1e-9:
+            raise ValueError(f"{self.name}.direction must not be zero")
+        object.__setattr__(self, "direction", tuple(d / np.linalg.norm(d)))
+        _checks.positive(f"{self.name}.max_forward", self.max_forward, "N")
+        _checks.non_negative(f"{self.name}.max_reverse", self.max_reverse, "N")
+        _checks.positive(f"{self.name}.time_constant", self.time_constant, "s")
+
+
+def add_thruster(spec: mujoco.MjSpec, body: str, th: Thruster) -> str:
+    """Add ``th`` to the body named ``body``: a site ``{body}/{th.name}`` whose x axis is the
+    thrust direction, and an actuator of the same name (control: thrust wanted, N). Returns the
+    actuator's name."""
+    b = spec.body(body)
+    if b is None:
+        raise ValueError(f"add_thruster: no body named {body!r} in the spec")
+    name = f"{body}/{th.name}"
+    x = np.asarray(th.direction)
+    # a site frame whose x axis is the direction: the shortest rotation from (1, 0, 0)
+    quat = np.zeros(4)
+    axis = np.cross([1.0, 0.0, 0.0], x)
+    s, c = np.linalg.norm(axis), float(x[0])
+    if s < 1e-12:
+        quat[:] = [1.0, 0.0, 0.0, 0.0] if c > 0 else [0.0, 0.0, 0.0, 1.0]
+    else:
+        mujoco.mju_axisAngle2Quat(quat, axis / s, float(np.arctan2(s, c)))
+    b.add_site(name=name, pos=list(th.position), quat=list(quat), size=[0.02, 0.0, 0.0])
+    a = spec.add_actuator(name=name, target=name, trntype=mujoco.mjtTrn.mjTRN_SITE)
+    a.gear = [1.0, 0.0, 0.0, 0.0, 0.0, 0.0]
+    a.dyntype = mujoco.mjtDyn.mjDYN_FILTEREXACT
+    a.dynprm[0] = th.time_constant
+    a.gaintype = mujoco.mjtGain.mjGAIN_FIXED
+    a.gainprm[0] = 1.0
+    a.biastype = mujoco.mjtBias.mjBIAS_NONE
+    a.ctrllimited = mujoco.mjtLimited.mjLIMITED_TRUE
+    a.ctrlrange = [-th.max_reverse, th.max_forward]
+    return name

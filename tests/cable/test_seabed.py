@@ -1,0 +1,116 @@
+"""The tether resting on the seabed: against the analytic catenary with seabed contact, and on a
+sloped seabed."""
+
+import math
+
+import numpy as np
+import pytest
+from conftest import new_spec
+
+import mjtether as mt
+from mjtether.cable.builder import add_seabed, seabed_height
+from mjtether.quasistatic import catenary
+
+
+@pytest.mark.parametrize("friction", [0.0, 0.5])
+def test_tether_lies_on_the_seabed_like_the_catenary(friction):
+    """A 50 m chain (130 N/m submerged) from a fairlead at the surface to an anchor on a 20 m
+    deep seabed, dropped from the catenary shape of a line 40 % lighter (so it starts slack and
+    falls into place). Settled (40 s, mean of 5 s): the fairlead force is within 1 % of the
+    elastic catenary with seabed contact, and as many nodes lie on the seabed as the catenary's
+    laid length says (to one node). Friction cannot change this state (the laid part carries no
+    tension gradient after falling slack), so cb = 0 is the answer for both. The cable's axis
+    lies one radius above the seabed plane; the anchor is placed there."""
+    dt = 0.005
+    water = mt.WaterColumn(depth=20.0)
+    d = 0.05
+    tether = mt.TetherSpec(length=50.0, segments=50, diameter=d, density=7800.0, EA=1e7)
+    w = tether.wet_weight_per_length(1025.0)
+    anchor, fairlead = np.array([0.0, 0.0, -20.0 + d / 2]), np.array([40.0, 0.0, 0.0])
+    answer = catenary(anchor, fairlead, 50.0, w, EA=1e7, cb=0.0)
+    start = catenary(anchor, fairlead, 50.0, 0.6 * w).points(np.linspace(0, 50, 51))[::-1]
+    spec = new_spec(dt)
+    add_seabed(spec, water, friction=0.9)
+    tm = mt.add_tether(spec, tether, mt.FixedPoint(fairlead), mt.FixedPoint(anchor), water=water, nodes=start,
+                       seabed_friction=friction)
+    with mt.Simulation(spec, water, [tm]) as sim:
+        bt = sim.tether()
+        sim.run(40.0)
+        f = []
+        for _ in range(100):
+            sim.step(10)
+            f.append(bt.end_force(sim.data, "start"))
+        x = bt.nodes(sim.data)
+    f = np.mean(f, axis=0)
+    assert np.linalg.norm(f - answer.fairlead_force) <= 0.01 * np.linalg.norm(answer.fairlead_force)
+    on_bottom = np.sum(x[:, 2] < anchor[2] + 0.01) - 1  # elements fully on the seabed
+    assert abs(on_bottom - answer.laid_length) <= 1.0
+    assert x[:, 2].min() > -20.0  # never through the seabed
+
+
+def test_tether_on_a_frictionless_slope_hangs_from_its_upper_end():
+    """A 20 m steel line laid straight down a frictionless 10 deg slope that rises towards
+    heading 30 deg, held at its upper end, free at the lower. The slope carries the weight's
+    normal component, so the holding force along the slope is exactly w L sin(alpha), pointing
+    down the slope (w: wet weight per metre). After 10 s (mean of 2 s) it is within 1 %; the
+    cable rests one radius above the slope (to 2 mm), and the slope's height is seabed_height."""
+    alpha, heading = math.radians(10.0), math.radians(30.0)
+    water = mt.WaterColumn(depth=50.0)
+    d = 0.04
+    tether = mt.TetherSpec(length=20.0, segments=40, diameter=d, density=7800.0, EA=1e8)
+    up = np.array([math.cos(heading), math.sin(heading), 0.0])
+    down_slope = -np.array([math.cos(alpha) * up[0], math.cos(alpha) * up[1], math.sin(alpha)])
+    normal = np.array([-math.sin(alpha) * up[0], -math.sin(alpha) * up[1], math.cos(alpha)])
+    top = np.array([*(5.0 * up[:2]), 0.0])
+    top[2] = seabed_height(water, top[0], top[1], alpha, heading)
+    top = top + d / 2 * normal  # the cable's axis
+    nodes = top + np.linspace(0.0, 20.0, 41)[:, None] * down_slope
+    spec = new_spec(0.005)
+    add_seabed(spec, water, friction=0.0, slope=alpha, slope_heading=heading)
+    tm = mt.add_tether(spec, tether, mt.FixedPoint(top), mt.FreeEnd(), water=water, nodes=nodes,
+                       seabed_friction=0.0)
+    with mt.Simulation(spec, water, [tm]) as sim:
+        bt = sim.tether()
+        sim.run(10.0)
+        f = []
+        for _ in range(40):
+            sim.step(10)
+            f.append(bt.end_force(sim.data, "start"))
+        x = bt.nodes(sim.data)
+    along = float(np.mean(f, axis=0) @ down_slope)
+    expected = tether.wet_weight_per_length(1025.0) * 20.0 * math.sin(alpha)
+    assert along == pytest.approx(expected, rel=0.01)
+    clearance = x[:, 2] - seabed_height(water, x[:, 0], x[:, 1], alpha, heading)
+    assert np.abs(clearance * math.cos(alpha) - d / 2).max() < 0.002
+
+
+def test_a_seabed_too_stiff_for_the_step_is_refused_with_the_step_that_works():
+    """MoorDyn's usual seabed (kBot 3e6 Pa/m, cBot 3e5 Pa s/m) under a light line (30 mm,
+    3000 kg/m^3) at 5 ms: per kg of cable the contact damping is 3.2e3 1/s, b dt = 16, and the
+    run diverged (measured: stable to b dt = 10.5, diverging from 13). The builder refuses it,
+    naming the largest step, 8 / b = 2.52 ms (rounded down), within 2x of the largest stable one (about 3.3 ms);
+    at exactly that step the line, lowered 8 m onto the seabed over 20 s, does not diverge."""
+    depth, d, length = 30.0, 0.03, 40.0
+    top, anchor = np.array([0.0, 0.0, -10.0]), np.array([32.0, 0.0, -depth + d / 2])
+    water = mt.WaterColumn(depth=depth)
+    tether = mt.TetherSpec(length=length, segments=20, diameter=d, density=3000.0, EA=1e8)
+
+    def build(dt):
+        spec = new_spec(dt)
+        add_seabed(spec, water, friction=0.5)
+        spec.worldbody.add_body(name="ship", pos=top, mocap=True)
+        tm = mt.add_tether(spec, tether, mt.BodyPoint("ship"), mt.FixedPoint(anchor), water=water,
+                           seabed_friction=0.0, seabed_stiffness=3e6, seabed_damping=3e5)
+        return spec, tm
+
+    with pytest.raises(ValueError, match=r"water.seabed_stiffness = 3e\+06 Pa/m .* need a time step of at most "
+                                         r"0.00252 s, not 0.005 s") as info:
+        build(0.005)
+    dt_max = float(str(info.value).split("at most ")[1].split(" s")[0])
+    spec, tm = build(dt_max)
+    with mt.Simulation(spec, water, [tm]) as sim:
+        for _ in range(int(round(20.0 / dt_max))):
+            t = sim.time + sim.timestep
+            sim.data.mocap_pos[0] = top - [0.0, 0.0, 8.0 * 0.5 * (1 - math.cos(math.pi * min(t / 20.0, 1.0)))]
+            sim.step()  # raises SimulationDiverged if it goes
+        assert np.all(np.isfinite(sim.tether().nodes(sim.data)))

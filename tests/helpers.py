@@ -1,0 +1,45 @@
+"""Helpers that tests in several folders share (``tests/`` is on ``sys.path`` through the
+rootdir's ``conftest.py``): a small anchor scenario, and the walker's pose errors."""
+
+import math
+
+import mujoco
+import numpy as np
+
+SMALL = """
+[simulation]
+duration = {duration}
+timestep = 0.005
+output_interval = 0.5
+[water]
+depth = 100.0
+[water.current]
+type = "exponential"
+surface_speed = 0.8
+decay_depth = 20.0
+[tether]
+length = 120.0
+segments = 30
+diameter = 0.03
+density = 2500.0
+EA = 5.0e6
+[robot]
+type = "anchor"
+position = [60.0, 0.0, -80.0]
+"""
+
+
+def small(duration=10.0, extra=""):
+    return SMALL.format(duration=duration) + extra
+
+
+def pose_errors(run) -> tuple[float, float]:
+    """(tilt of the walker's up axis from the seabed's normal, heading error from the commanded
+    heading (the scenario's heading plus the commanded turn rate integrated)), degrees."""
+    _, yaw, _, R = run.robot_state()
+    rot = np.zeros(9)
+    mujoco.mju_quat2Mat(rot, run.sim.model.geom("seabed").quat)
+    normal = rot[[2, 5, 8]]
+    tilt = math.degrees(math.acos(min(1.0, float(R[:, 2] @ normal))))
+    heading = math.degrees((yaw - run.heading_ref + math.pi) % (2 * math.pi) - math.pi)
+    return tilt, abs(heading)
