@@ -139,21 +139,40 @@ DEFAULT_SCENARIO = Path(__file__).resolve().parent / "scenarios" / "default.toml
 
 def _simulate(sc, command: str, what: str, **kw):
     """``runner.run`` with a progress bar; returns its result, or None after printing why it
-    failed (``what``: what the failure leaves unwritten)."""
+    failed (``what``: what the failure leaves unwritten). The first run after an install or an
+    update compiles the force kernels: it says so, and the bar starts when the stepping does."""
     from tqdm import tqdm
 
+    from mjtether.physics import compiled, jitcache
     from mjtether.scenario.runner import RunFailed, run
     from .simulation import SimulationDiverged
 
-    bar = tqdm(total=int(round(sc.simulation.duration / sc.simulation.timestep)), unit="step",
-               desc=f"mjtether {command}", leave=False)
+    cold = compiled.backend() == "numba" and jitcache.CACHE and not jitcache.warm()
+    if cold:
+        print(f"mjtether {command}: compiling the force kernels for this install (about half a minute, once)",
+              file=sys.stderr)
+    bar = None
+
+    def progress(k, n):
+        nonlocal bar
+        if bar is None:
+            bar = tqdm(total=n, unit="step", desc=f"mjtether {command}", leave=False)
+        bar.update(k - bar.n)
+
     try:
-        return run(sc, progress=lambda k, n: bar.update(k - bar.n), **kw)
+        result = run(sc, progress=progress, **kw)
+        if cold:
+            jitcache.mark_warm()
+        return result
     except (RunFailed, SimulationDiverged, ValueError, RuntimeError) as exc:
+        if bar is not None:  # (so that the message starts a line of its own)
+            bar.close()
+            bar = None
         print(f"mjtether {command}: failed, no {what} written: {exc}", file=sys.stderr)
         return None
     finally:
-        bar.close()
+        if bar is not None:
+            bar.close()
 
 
 def _run(args) -> int:

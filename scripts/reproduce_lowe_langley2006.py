@@ -210,7 +210,7 @@ C_a rho A of extra inertia along its axis: here 123 kg/m on 165 kg/m, and the te
 fairlead that drags the line along its axis comes out about half as large again as the paper's.
 `"normal"` is not the default yet because the slack switching is not yet safe with it (a pushed
 element pushes by 0.16 W, a touchdown spikes to 1.49 times the start tension; see
-`mjtether/builder.py`); until then, use it for taut lines whose ends move along the line.
+`mjtether/cable/builder.py`); until then, use it for taut lines whose ends move along the line.
 """
 
 

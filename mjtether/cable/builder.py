@@ -52,7 +52,7 @@ to it, the drum element, takes all payout and reel-in; every other deployed elem
 nominal length l0 = L / N. Paying out past 1.2 l0 releases the next node from the drum (the
 drum element splits into one of l0 and a new drum element of the rest); reeling in below
 0.1 l0 takes a node back (the drum element merges with its neighbour; see
-``simulation.SPLIT``). Nodes on the drum are parked: no equality, no hydrodynamic force,
+``cable.drum.SPLIT``). Nodes on the drum are parked: no equality, no hydrodynamic force,
 gravity compensated, at rest. ``BoundTether.set_length`` does this at run time.
 
 Ends: every end is a node body, joined to its support (a world site for a fixed point, a site

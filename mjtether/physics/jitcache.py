@@ -19,22 +19,31 @@ from __future__ import annotations
 import functools
 import hashlib
 import os
+import re
 from pathlib import Path
 
 PACKAGE = Path(__file__).resolve().parents[1]
 """The ``mjtether`` package folder."""
+_KERNEL = re.compile(rb"^[ \t]*@(?:[\w.]+\.)?_?jit\b|numba\.cfunc\(", re.M)
+"""What marks a module that defines kernels: a ``@jit`` (``@compiled.jit``, ``@_jit``)
+decorator, or a numba ``cfunc``."""
 
 
 @functools.lru_cache(maxsize=1)
 def source_stamp() -> str:
-    """SHA-256 of the sources of every module of the package that uses ``jit`` (path and
+    """SHA-256 of the sources of every module of the package that defines kernels (path and
     contents, in path order)."""
     h = hashlib.sha256()
     for path in sorted(PACKAGE.rglob("*.py")):
         text = path.read_bytes()
-        if b"jit" in text:
+        if _KERNEL.search(text):
             h.update(str(path.relative_to(PACKAGE)).encode() + b"\0" + text + b"\0")
     return h.hexdigest()
+
+
+def kernel_modules() -> list[str]:
+    """The modules ``source_stamp`` reads (paths in the package)."""
+    return [str(p.relative_to(PACKAGE)) for p in sorted(PACKAGE.rglob("*.py")) if _KERNEL.search(p.read_bytes())]
 
 
 def _ours(py_file: str) -> bool:
@@ -77,3 +86,40 @@ def _install() -> bool:
 
 CACHE = os.environ.get("NUMBA_DISABLE_CACHE", "").strip() not in ("1", "true") and _install()
 """Whether the kernels are cached on disk (keyed on ``source_stamp``)."""
+
+
+def _marker() -> Path | None:
+    """The file that says the kernels of this ``source_stamp`` were compiled and cached: in
+    ``NUMBA_CACHE_DIR``, else beside the package's caches, else the user's cache folder."""
+    folders = [Path(os.environ["NUMBA_CACHE_DIR"])] if os.environ.get("NUMBA_CACHE_DIR") else []
+    folders += [PACKAGE / "physics" / "__pycache__",
+                Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "mjtether"]
+    name = f"kernels-{source_stamp()[:16]}.compiled"
+    for folder in folders:
+        if (folder / name).exists():
+            return folder / name
+    for folder in folders:
+        try:
+            folder.mkdir(parents=True, exist_ok=True)
+            if os.access(folder, os.W_OK):
+                return folder / name
+        except OSError:
+            continue
+    return None
+
+
+def warm() -> bool:
+    """Whether the kernels of this source were compiled and cached by an earlier run (see
+    ``mark_warm``); False where they are not cached at all."""
+    marker = _marker() if CACHE else None
+    return marker is not None and marker.exists()
+
+
+def mark_warm() -> None:
+    """Note that a run has compiled (and cached) every kernel it uses."""
+    marker = _marker() if CACHE else None
+    if marker is not None:
+        try:
+            marker.touch()
+        except OSError:
+            pass

@@ -58,3 +58,25 @@ def test_a_changed_inlined_kernel_is_recompiled(tmp_path):
     source.write_text(text.replace(constant, "    if kind == 0:\n        return 2.0 * p[0]\n", 1))
     after = _buoyancy(root, cache)
     assert after == pytest.approx(2.0 * before, rel=1e-12), "the cached caller ran the old _density"
+
+
+def test_the_first_run_says_it_compiles_then_never_again(tmp_path, monkeypatch, capsys):
+    """A run whose kernels are not known to be cached says it is compiling them before its
+    progress bar starts, and marks them cached once it has run; the next run says nothing."""
+    from helpers import small
+
+    from mjtether import cli
+    from mjtether.physics import jitcache
+
+    monkeypatch.setenv("NUMBA_CACHE_DIR", str(tmp_path / "cache"))  # (where the marker goes)
+    monkeypatch.setattr(jitcache, "CACHE", True)
+    monkeypatch.setenv(compiled.KERNELS_ENV, "numba")
+    assert not jitcache.warm()
+    f = tmp_path / "s.toml"
+    f.write_text(small(0.5))
+    assert cli.main(["run", str(f), "--out", str(tmp_path / "a"), "--no-plots"]) == 0
+    first = capsys.readouterr().err
+    assert "compiling the force kernels" in first
+    assert jitcache.warm()
+    assert cli.main(["run", str(f), "--out", str(tmp_path / "b"), "--no-plots"]) == 0
+    assert "compiling" not in capsys.readouterr().err
