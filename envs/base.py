@@ -19,10 +19,10 @@ from dataclasses import dataclass, fields
 import gymnasium as gym
 import numpy as np
 
-from mjtether.scenario.config import ConfigError, Section, param
 from mjtether.io.render import CAMERAS, Marker, RenderUnavailable, model_camera_id, tension_colours
-from mjtether.scenario.runner import RunFailed, ScenarioRun
 from mjtether.scenario import load_scenario
+from mjtether.scenario.config import ConfigError, Section, param
+from mjtether.scenario.runner import RunFailed, ScenarioRun
 from mjtether.units import KNOT
 
 CURRENT_DEPTHS = (0.05, 0.25, 0.75)

@@ -57,9 +57,9 @@ from dataclasses import dataclass
 import numpy as np
 from gymnasium import spaces
 
+from mjtether.io.render import Marker
 from mjtether.scenario.config import Section, param
 from mjtether.scenario.readouts import roll_pitch
-from mjtether.io.render import Marker
 from mjtether.vehicles.files import load_vehicle
 
 from .base import TetherEnv, _finite_action, kwargs_table

@@ -48,8 +48,8 @@ from dataclasses import dataclass
 import numpy as np
 from gymnasium import spaces
 
-from mjtether.scenario.config import param
 from mjtether.io.render import Marker
+from mjtether.scenario.config import param
 from mjtether.scenario.runner import RunFailed
 
 from .base import TetherEnv, TetherEnvConfig, _finite_action, kwargs_table

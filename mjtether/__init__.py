@@ -14,11 +14,15 @@ The package by domain (imports run down this list, never up):
 * ``sweep``, ``rollouts``, ``cli``: many runs, and the command line.
 """
 
+from mjtether import quasistatic, rollouts
 from mjtether.analytic import Catenary, SuspendedWeight, catenary, sagged_polyline
+from mjtether.cable import builder, makeup, seabed, stability, tether, winch
 from mjtether.cable.builder import BodyPoint, FixedPoint, FreeEnd, SitePoint, TetherModel, add_tether, axial_params
 from mjtether.cable.tether import TetherSpec
 from mjtether.cable.winch import Winch
+from mjtether.io import mjlog
 from mjtether.io.mjlog import MujocoWarning
+from mjtether.physics import compiled, dispatch, hydro, native, rigidbody, water
 from mjtether.physics.rigidbody import RigidBodyHydro, add_body_hydro
 from mjtether.physics.water import (
     GRAVITY,
@@ -37,13 +41,9 @@ from mjtether.physics.water import (
 )
 from mjtether.simulation import BoundTether, Simulation, SimulationDiverged
 from mjtether.units import KNOT, knots, to_knots
-
-from mjtether import quasistatic, rollouts
-from mjtether.cable import builder, makeup, seabed, stability, tether, winch
-from mjtether.io import mjlog
-from mjtether.physics import compiled, dispatch, hydro, native, rigidbody, water
 from mjtether.vehicles import fins, fossen, propeller, vehicle
-# (the modules above are also the flat layout's names: ``mt.water``, ``mt.builder``, ...)
+
+# (the module imports above also keep the flat layout's names: ``mt.water``, ``mt.builder``, ...)
 
 __all__ = [
     "BodyPoint", "BoundTether", "Catenary", "ConstantCurrent", "ConstantDensity", "CurrentProfile",

@@ -4,11 +4,11 @@ from __future__ import annotations
 
 import argparse
 import sys
-
 from pathlib import Path
 
 from mjtether import _checks, demo
 from mjtether.io.outdir import terminate_as_exit
+
 from .units import knots
 
 
@@ -125,6 +125,7 @@ def _load(path, sets=()):
     """The checked scenario (the built-in one if ``path`` is None) with ``--set`` overrides, or
     None after printing the one-line reason."""
     from mjtether.io.moordyn import load_any
+
     from .scenario import ScenarioError
 
     try:
@@ -145,6 +146,7 @@ def _simulate(sc, command: str, what: str, **kw):
 
     from mjtether.physics import compiled, jitcache
     from mjtether.scenario.runner import RunFailed, run
+
     from .simulation import SimulationDiverged
 
     cold = compiled.backend() == "numba" and jitcache.CACHE and not jitcache.warm()
@@ -260,6 +262,7 @@ def _convert(args) -> int:
     import tempfile
 
     from mjtether.io import moordyn
+
     from .scenario import ScenarioError, to_toml
 
     sc = _load(args.source, args.set)

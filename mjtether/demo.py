@@ -7,7 +7,6 @@ import mujoco
 import numpy as np
 from tqdm import tqdm
 
-from mjtether import _checks
 from mjtether import (
     BodyPoint,
     ExponentialCurrent,
@@ -17,6 +16,7 @@ from mjtether import (
     Simulation,
     TetherSpec,
     WaterColumn,
+    _checks,
     add_body_hydro,
     add_tether,
 )

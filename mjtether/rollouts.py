@@ -26,6 +26,7 @@ import numpy as np
 from mujoco import rollout as _mj_rollout
 
 from mjtether.physics import native
+
 from .simulation import Simulation
 
 STATE = mujoco.mjtState.mjSTATE_FULLPHYSICS

@@ -21,8 +21,8 @@ from pathlib import Path
 import mujoco
 import numpy as np
 
-from mjtether.physics import compiled
 from mjtether.io.packagedata import asset_dir
+from mjtether.physics import compiled
 from mjtether.physics.rigidbody import RigidBodyHydro
 
 

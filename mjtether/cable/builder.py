@@ -86,11 +86,12 @@ import mujoco
 import numpy as np
 
 from mjtether import _checks
-from mjtether.physics import dispatch
 from mjtether.analytic import sagged_polyline
+from mjtether.physics import dispatch
+from mjtether.physics.water import WaterColumn
+
 from .makeup import LineMakeup
 from .tether import ADDED_MASS, TetherSpec
-from mjtether.physics.water import WaterColumn
 
 MIN_IMP, MAX_IMP = 1e-4, 0.9999  # MuJoCo's mjMINIMP, mjMAXIMP
 AXIAL_OMEGA_DT = 0.4

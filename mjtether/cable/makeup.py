@@ -25,16 +25,16 @@ SI units: m, kg, N; arc lengths are unstretched, from the top end.
 from __future__ import annotations
 
 import math
-import tomllib
 from dataclasses import dataclass, fields, replace
 from functools import cached_property
 from importlib.resources import files
 
 import numpy as np
+import tomllib
 
 from mjtether import _checks
-from .tether import MAX_LENGTH, MAX_SEGMENTS, TetherSpec
 
+from .tether import MAX_LENGTH, MAX_SEGMENTS, TetherSpec
 
 SNAP = 1e-9
 """A load within this fraction of an element length of a node goes wholly to the node."""

@@ -100,8 +100,9 @@ import math
 import numpy as np
 
 from mjtether.cable.drum import FAIRLEAD_SHARE, MERGE, SPLIT
-from .tether import TetherSpec
 from mjtether.physics.water import WaterColumn
+
+from .tether import TetherSpec
 
 SAFETY = 0.8
 """Fraction of the smallest limit that ``max_timestep`` returns. Measured, the largest stable

@@ -13,7 +13,6 @@ from dataclasses import dataclass
 
 from mjtether import _checks
 
-
 MAX_LENGTH = 1e5
 """Longest tether (m): 100 km."""
 MAX_SEGMENTS = 5000

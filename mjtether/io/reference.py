@@ -5,10 +5,11 @@ checks the file is current."""
 
 from __future__ import annotations
 
-from mjtether.scenario.config import markdown_table
-from .results import column_names
-from mjtether.scenario.runner import RECORD_FIELDS
 from mjtether.scenario import Scenario
+from mjtether.scenario.config import markdown_table
+from mjtether.scenario.runner import RECORD_FIELDS
+
+from .results import column_names
 
 HEAD = '# Scenario files\n\nA scenario is a TOML file with the sections below; every key is optional unless marked\nrequired, and takes the default shown. Units are SI, except angles: keys ending in `_deg` are in\ndegrees and the walker\'s turn rates in deg/s. Speeds marked "or `<key>_kn`" may be given in knots\ninstead (1 kn = 0.514444 m/s). Unknown sections or keys, wrong types and values out of range are\nerrors that name the file, the key path, the value and what is allowed; `mjtether run` then exits\nwith status 2 before simulating and writes nothing. A run estimated to take more than\n`simulation.max_wall_hours` on one core, or to record more than `simulation.max_output_gb`, is\nrefused the same way, with the estimate.\n\nAny key can be overridden on the command line of `run`, `solve` and `render` with\n`--set KEY=VALUE` (repeatable; the value in TOML syntax, a bare word being a string), checked as\nin a file: `mjtether run --set simulation.duration=10 --set tether.length=300`. A table of an\narray of tables is reached by its index, from 0: `--set tether.floats[0].start=110` (also in a\nsweep\'s `--vary`).\n\nThe same tree is the Python API: `mjtether.scenario.Scenario` (sections `Simulation`, `Water`\nwith `Density` and `Current`, `Tether`, `Ship`, `Winch`, `Robot`), checked on construction;\n`load_scenario(path, overrides=[...])` reads a file.\n\n```bash\nmjtether run examples/static_anchor_current.toml --out results/static   # simulate, write results\nmjtether solve examples/static_anchor_current.toml                      # quasi-static answer only\n```\n\nExamples are in `examples/`; the built-in scenario (used when no file is given) is\n`mjtether/scenarios/default.toml`.\n\nFrames: world, z up, water surface at z = 0, seabed at z = -depth. Headings are measured from\n+x towards +y, in degrees.\n\n## Keys\n\n'
 

@@ -39,9 +39,10 @@ import numpy as np
 
 from mjtether.cable.builder import seabed_height
 from mjtether.physics.water import WaterColumn
-from .outdir import Staging, check_target
 from mjtether.scenario.readouts import TETHER_FIELDS, VEHICLE_FIELDS
 from mjtether.scenario.runner import RECORD_FIELDS
+
+from .outdir import Staging, check_target
 
 
 def written(tethered: bool = True, vehicle: bool = True) -> list[int]:

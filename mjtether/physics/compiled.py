@@ -31,7 +31,8 @@ import os
 
 import numpy as np
 
-from mjtether.physics import jitcache, water as _water
+from mjtether.physics import jitcache
+from mjtether.physics import water as _water
 
 try:  # numba is a dependency; the NumPy kernels still run where it cannot be imported
     import numba

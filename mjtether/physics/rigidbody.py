@@ -21,6 +21,7 @@ import numpy as np
 
 from mjtether import _checks
 from mjtether.physics import compiled
+
 from .hydro import rigid_body_loads
 
 

@@ -12,6 +12,7 @@ from __future__ import annotations
 from mjtether.cable.builder import axial_params
 from mjtether.cable.tether import TetherSpec
 from mjtether.physics.water import WaterColumn
+
 from .steady import SteadyState, steady_state
 
 

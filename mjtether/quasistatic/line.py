@@ -17,11 +17,12 @@ import math
 
 import numpy as np
 
-from mjtether.physics import compiled
-from mjtether.physics.hydro import morison_drag, wet_fraction
 from mjtether.cable.makeup import LineMakeup
 from mjtether.cable.tether import TetherSpec
+from mjtether.physics import compiled
+from mjtether.physics.hydro import morison_drag, wet_fraction
 from mjtether.physics.water import WaterColumn
+
 from . import kernels
 
 

@@ -115,8 +115,9 @@ from mjtether import _checks
 from mjtether.cable.makeup import LineMakeup
 from mjtether.cable.tether import TetherSpec
 from mjtether.physics.water import WaterColumn
-from .catenary import catenary
+
 from . import kernels, seabed_lay
+from .catenary import catenary
 from .line import _Cable
 from .seabed_lay import _lay, _lay_makeup, _lay_top, _liftoff, _slack_state, _touchdown_fraction
 

@@ -17,9 +17,10 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.optimize import lsq_linear
 
-from .readouts import roll_pitch
 from mjtether.vehicles.files import thrust_matrix
 from mjtether.walker import Tripod
+
+from .readouts import roll_pitch
 
 WALK_ACCEL = 0.2
 """Largest change of the walker's commanded speed (m/s^2)."""

@@ -4,12 +4,12 @@ and its checks are ``sections``."""
 
 from __future__ import annotations
 
-import tomllib
 from pathlib import Path
+
+import tomllib
 
 from .config import ConfigError, build, split_index, subsections, table_lists, unknown_key_message
 from .sections import Scenario, ScenarioError
-
 
 
 def load_scenario(path=None, *, text: str | None = None, data: dict | None = None, name: str | None = None,

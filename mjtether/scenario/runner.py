@@ -22,13 +22,21 @@ import mujoco
 import numpy as np
 
 from mjtether.cable import builder
-from mjtether.scenario import start
+from mjtether.scenario import Scenario, start
+from mjtether.simulation import Simulation
+
 from .controllers import GaitDrive, Manoeuvre, PathDrive, Ship, VehiclePilot, VesselFollow, WinchDrive  # noqa: F401 - Ship: the run's ship kinematics
 from .readouts import RECORD_FIELDS, Readouts, roll_pitch  # noqa: F401 - the record's columns
-from mjtether.scenario import Scenario
-from .scene import VEHICLE, build_scene, heading_quat, makeup_from, tether_from, vehicle_tow_point  # noqa: F401
-from .scene import water_from, winch_from  # noqa: F401
-from mjtether.simulation import Simulation
+from .scene import (  # noqa: F401  # noqa: F401
+    VEHICLE,
+    build_scene,
+    heading_quat,
+    makeup_from,
+    tether_from,
+    vehicle_tow_point,
+    water_from,
+    winch_from,
+)
 
 
 def manoeuvre_from(robot, vs) -> Manoeuvre | None:

@@ -21,16 +21,17 @@ import mujoco
 import numpy as np
 
 from mjtether.cable import builder
-from mjtether.physics import water as wm
-from .controllers import Ship
 from mjtether.cable.makeup import LineMakeup
+from mjtether.cable.tether import TetherSpec
+from mjtether.cable.winch import Winch
+from mjtether.physics import water as wm
 from mjtether.physics.rigidbody import add_body_hydro
 from mjtether.scenario import Scenario
-from mjtether.cable.tether import TetherSpec
 from mjtether.vehicles.files import VehicleSpec, build_vehicle, load_vehicle
 from mjtether.walker import HYDRO as WALKER_HYDRO
 from mjtether.walker import walker_spec
-from mjtether.cable.winch import Winch
+
+from .controllers import Ship
 
 WALKER_STAND_HEIGHT = 0.9
 """Height (m) of the walker's torso above the seabed when it is placed."""

@@ -18,6 +18,12 @@ import dataclasses
 import math
 from dataclasses import dataclass
 
+from mjtether.cable.makeup import load_line_types
+from mjtether.cable.tether import MAX_LENGTH, MAX_SEGMENTS, TetherSpec
+from mjtether.cable.winch import MODES as WINCH_MODES
+from mjtether.cable.winch import Winch as _Winch
+from mjtether.walker import Tripod
+
 from .config import (
     INF,
     RENAMED,
@@ -27,11 +33,6 @@ from .config import (
     section,
     tables,
 )
-from mjtether.cable.tether import MAX_LENGTH, MAX_SEGMENTS, TetherSpec
-from mjtether.cable.makeup import load_line_types
-from mjtether.walker import Tripod
-from mjtether.cable.winch import MODES as WINCH_MODES
-from mjtether.cable.winch import Winch as _Winch
 
 ScenarioError = ConfigError
 

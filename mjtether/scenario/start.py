@@ -14,12 +14,13 @@ import mujoco
 import numpy as np
 
 from mjtether.physics import water as wm
-from .config import ConfigError
-from .controllers import CONTROL_HZ
 from mjtether.quasistatic import initial_state, steady_state
-from .scene import Scene, place_walker, seabed_spec
 from mjtether.simulation import Simulation
 from mjtether.walker import Tripod
+
+from .config import ConfigError
+from .controllers import CONTROL_HZ
+from .scene import Scene, place_walker, seabed_spec
 
 PREROLL_S = 1.0
 """Seconds simulated before t = 0 with the ship and winch still (see ``preroll``)."""

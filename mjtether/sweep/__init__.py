@@ -91,6 +91,7 @@ import time
 from pathlib import Path
 
 from mjtether.io.outdir import terminate_as_exit
+
 from . import execute
 from .execute import (
     _claim,

@@ -50,6 +50,7 @@ def run_case(sc: Scenario) -> dict:
     Never raises for a failing case; KeyboardInterrupt and SystemExit pass through."""
     from mjtether.io.results import summary
     from mjtether.scenario.runner import RECORD_FIELDS, RunFailed, run
+
     from ..simulation import SimulationDiverged
 
     started = time.time()

@@ -7,11 +7,11 @@ import hashlib
 import itertools
 import json
 import math
-import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
+import tomllib
 
 from mjtether.scenario.config import (
     ConfigError,
@@ -22,6 +22,7 @@ from mjtether.scenario.config import (
     table_lists,
     unknown_key_message,
 )
+
 from ..scenario import Scenario, load_scenario
 from ..units import KNOT
 

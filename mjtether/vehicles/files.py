@@ -29,15 +29,16 @@ The file's tables (units SI; body frame x forward, y left, z up; see ``vehicle``
 from __future__ import annotations
 
 import math
-import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import mujoco
 import numpy as np
+import tomllib
+
+from mjtether.io.packagedata import asset_dir
 
 from .fins import Fin, add_fin
-from mjtether.io.packagedata import asset_dir
 from .propeller import Propeller, add_propeller
 from .thruster import Thruster, add_thruster
 from .vehicle import Hull, Surface, VehicleHydro, VehicleModel, add_vehicle

@@ -36,10 +36,11 @@ import numpy as np
 
 from mjtether import _checks
 from mjtether.physics import compiled
+from mjtether.physics.rigidbody import make_not_simple
+
 from .fins import fin_wrench
 from .fossen import cross, crossflow_drag, damping_force, lift_drag, m2c, restoring_force, surface_restoring
 from .propeller import Propeller
-from mjtether.physics.rigidbody import make_not_simple
 
 
 def _matrix6(name: str, value) -> np.ndarray:
