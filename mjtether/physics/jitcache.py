@@ -89,22 +89,22 @@ CACHE = os.environ.get("NUMBA_DISABLE_CACHE", "").strip() not in ("1", "true") a
 
 
 def _marker() -> Path | None:
-    """The file that says the kernels of this ``source_stamp`` were compiled and cached: in
-    ``NUMBA_CACHE_DIR``, else beside the package's caches, else the user's cache folder."""
-    folders = [Path(os.environ["NUMBA_CACHE_DIR"])] if os.environ.get("NUMBA_CACHE_DIR") else []
-    folders += [PACKAGE / "physics" / "__pycache__",
-                Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "mjtether"]
+    """The file that says the kernels of this ``source_stamp`` were compiled and cached, where
+    numba keeps them: in ``NUMBA_CACHE_DIR`` if it is set (numba then looks nowhere else), else
+    beside the package's caches, else in the user's cache folder; None if none is writable."""
+    if os.environ.get("NUMBA_CACHE_DIR"):
+        folders = [Path(os.environ["NUMBA_CACHE_DIR"])]
+    else:
+        folders = [PACKAGE / "physics" / "__pycache__",
+                   Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "mjtether"]
     name = f"kernels-{source_stamp()[:16]}.compiled"
-    for folder in folders:
-        if (folder / name).exists():
-            return folder / name
     for folder in folders:
         try:
             folder.mkdir(parents=True, exist_ok=True)
-            if os.access(folder, os.W_OK):
-                return folder / name
         except OSError:
             continue
+        if (folder / name).exists() or os.access(folder, os.W_OK):
+            return folder / name
     return None
 
 
