@@ -121,18 +121,25 @@ def _video_factory(args, path, duration=None, overwrite=True):
     return lambda runner: VideoRecorder(runner, path, settings, duration=duration)
 
 
-def _load(path, sets=()):
+def _load(path, sets=(), network: bool = False):
     """The checked scenario (the built-in one if ``path`` is None) with ``--set`` overrides, or
-    None after printing the one-line reason."""
+    None after printing the one-line reason. A MoorDyn file that holds a network of lines
+    (``mjtether.network``) is returned as one where ``network``, refused otherwise."""
     from mjtether.io.moordyn import load_any
+    from mjtether.network import Network
 
     from .scenario import ScenarioError
 
     try:
-        return load_any(path if path else DEFAULT_SCENARIO, overrides=sets)
+        sc = load_any(path if path else DEFAULT_SCENARIO, overrides=sets)
     except ScenarioError as exc:
         print(f"mjtether: {exc}", file=sys.stderr)
         return None
+    if isinstance(sc, Network) and not network:
+        print(f"mjtether: {path}: a network of {len(sc.lines)} line(s) (not one line from a fairlead to an anchor): "
+              "`mjtether run` runs it; this command takes one line", file=sys.stderr)
+        return None
+    return sc
 
 
 DEFAULT_SCENARIO = Path(__file__).resolve().parent / "scenarios" / "default.toml"
@@ -180,10 +187,13 @@ def _simulate(sc, command: str, what: str, **kw):
 def _run(args) -> int:
     from mjtether.io import results
     from mjtether.io.outdir import OutputError, Staging, check_target
+    from mjtether.network import Network
 
-    sc = _load(args.scenario, args.set)
+    sc = _load(args.scenario, args.set, network=True)
     if sc is None:
         return 2
+    if isinstance(sc, Network):
+        return _run_network(args, sc)
     if args.video and Path(args.video).suffix.lower() not in (".mp4", ".gif"):
         print(f"mjtether run: --video must name an .mp4 or .gif file, got {args.video!r}", file=sys.stderr)
         return 2
@@ -225,6 +235,47 @@ def _run(args) -> int:
                 if info["tethered"] else "no tether")
     print(f"{info['simulated_s']:.0f} s simulated in {info['wall_time_s']:.1f} s "
           f"({info['realtime_factor']:.1f}x real time); {tensions}; results in {out}/")
+    return 0
+
+
+def _run_network(args, net) -> int:
+    """``mjtether run`` of a network of lines (``mjtether.network.run``)."""
+    from tqdm import tqdm
+
+    from mjtether.io.outdir import OutputError, check_target
+    from mjtether.network import run
+
+    from .simulation import SimulationDiverged
+
+    if args.video:
+        print("mjtether run: --video: networks of lines are not rendered yet", file=sys.stderr)
+        return 2
+    try:
+        check_target(args.out, overwrite=args.overwrite, protect=[args.scenario])
+    except OutputError as exc:
+        print(f"mjtether run: {exc}", file=sys.stderr)
+        return 2
+    bar = tqdm(total=1, unit="step", desc="mjtether run", leave=False)
+
+    def progress(k, n):
+        bar.total = n
+        bar.update(k - bar.n)
+
+    try:
+        r, rows = run.run_to(net, args.out, overwrite=args.overwrite, source=args.scenario, progress=progress)
+    except (SimulationDiverged, ValueError, RuntimeError, OutputError) as exc:
+        bar.close()
+        print(f"mjtether run: failed, no results written: {exc}", file=sys.stderr)
+        return 1
+    except KeyboardInterrupt:
+        bar.close()
+        print("mjtether run: interrupted; no results written", file=sys.stderr)
+        return 130
+    bar.close()
+    final = dict(zip(run.columns(net), rows[-1]))
+    worst = max(net.lines, key=lambda ln: final[f"line{ln.name}_B_tension_N"])
+    print(f"{rows[-1, 0]:.0f} s simulated ({len(net.lines)} lines, step {r.timestep:g} s); largest end-B tension "
+          f"{final[f'line{worst.name}_B_tension_N']:.0f} N (line {worst.name}); results in {args.out}/")
     return 0
 
 

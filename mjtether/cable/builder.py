@@ -344,10 +344,11 @@ PARTS_KEPT = 64
 
 @functools.lru_cache(maxsize=PARTS_KEPT)
 def cable_parts(n: int, first: int, diameter: float, rgba: tuple, solref: tuple | None,
-                added_mass: str) -> mujoco.MjSpec:
+                added_mass: str, contact_radius: float | None = None) -> mujoco.MjSpec:
     """A spec holding a tether's own parts, named without its prefix (see ``add_tether``): n + 1
     node bodies with three world slide joints and a site each (at the origin, mass unset), the
-    1-D flex through them (``diameter`` m, its seabed contact ``solref``, None for none), element
+    1-D flex through them (``diameter`` m, its seabed contact ``solref``, None for none, at
+    ``contact_radius`` from the axis, default half the diameter), element
     j's tendon and equality (active for j >= ``first``), and for ``added_mass="normal"`` two
     fixed tendons per node. Kept per layout (do not change the returned spec: copy it)."""
     parts = mujoco.MjSpec()
@@ -360,7 +361,8 @@ def cable_parts(n: int, first: int, diameter: float, rgba: tuple, solref: tuple 
             b.add_joint(name=f"{bname}/{axis}", type=mujoco.mjtJoint.mjJNT_SLIDE, axis=ax)
         b.add_site(name=bname, size=[diameter] * 3)
 
-    flex = parts.add_flex(name=_FLEX, dim=1, radius=diameter / 2, rgba=list(rgba))
+    radius = diameter / 2 if contact_radius is None else contact_radius
+    flex = parts.add_flex(name=_FLEX, dim=1, radius=radius, rgba=list(rgba))
     flex.vertbody = body_names
     flex.vert = [0.0] * (3 * (n + 1))
     flex.elem = [k for i in range(n) for k in (i, i + 1)]
@@ -419,6 +421,7 @@ def add_tether(
     end_at=None,
     added_mass: str | None = None,
     start_at=None,
+    rest_on_axis: bool = False,
 ) -> TetherModel:
     """Add ``tether`` to ``spec`` between ``start`` (the ship end, where its drum is) and ``end``.
 
@@ -445,6 +448,9 @@ def add_tether(
         added_mass: ``"isotropic"`` or ``"normal"`` (see ``TetherSpec.added_mass`` and the module
             docstring); default: the tether's (``"isotropic"`` for a line make-up).
         start_at: as ``end_at``, for the start support (a vessel turned after compiling).
+        rest_on_axis: the cable rests on the seabed with its axis on it, as MoorDyn's nodes do
+            (its contact capsule is then of negligible radius); default: with its surface on it,
+            the axis one radius above the seabed.
 
     The cable's own parts are made once per layout (``cable_parts``: element count, drum
     capacity, diameter, contact, added mass) and copied into ``spec`` under the prefix
@@ -523,7 +529,8 @@ def add_tether(
     # layout (kept: an environment's resets differ in positions and masses only), placed and
     # weighed, attached under the name prefix; masses of the deployed cable (nodes on the drum
     # get an interior node's: they are parked)
-    parts = cable_parts(n, first, float(tether.diameter), tuple(float(c) for c in rgba), solref, added_mass).copy()
+    parts = cable_parts(n, first, float(tether.diameter), tuple(float(c) for c in rgba), solref, added_mass,
+                        1e-6 * float(tether.diameter) if rest_on_axis else None).copy()
     m_el = tether.mu * l0
     inertia = [1e-6 * m_el * l0 * l0 + 1e-12] * 3
     for b, x in zip(parts.bodies[1:], all_nodes):  # (bodies[0] is the world)

@@ -1,36 +1,37 @@
-"""MoorDyn v2 input files: read one into a scenario, write a scenario as one.
+"""MoorDyn v2 input files: read one as MoorDyn-C 2.7 reads it, write a scenario as one.
 
 MoorDyn (Hall and Goupee, 2015, *Ocean Engineering*; the v2 format of its documentation,
-"Input Files") describes a mooring system in sections headed by dashed lines: LINE TYPES,
-POINTS, LINES, OPTIONS (and ROD TYPES, BODIES, RODS, OUTPUTS...). mjtether runs one tether
-between a ship's fairlead and a robot end, so a file maps onto a scenario when it has:
+"Input Files") describes a mooring system in sections headed by dashed lines. ``parse`` reads
+them as MoorDyn-C 2.7's ``MoorDyn2.cpp`` does: the section headers and their aliases (LINE TYPES
+or LINE DICTIONARY; POINTS, POINT LIST, POINT PROPERTIES, CONNECTION PROPERTIES or NODE
+PROPERTIES; LINES, LINE LIST or LINE PROPERTIES; BODIES; OPTIONS, SOLVER OPTIONS), the option
+names and aliases (g/gravity, rho/WtrDnsty, kBot/kb, cBot/cb, ...; an unknown option is a
+warning, as in MoorDyn-C), the point words (Fixed, Anchor, Fix; Vessel, Ves, Coupled, Cpld,
+Fairlead; Free, Point, Connect, Con; Body<n>), attachments written ``2``, ``P2``, ``C2``,
+``Point2``, points with 9 fields or 12 (a force Fx Fy Fz before CdA), and MoorDyn-C's defaults
+(g = 9.80665 m/s^2, rho 1025 kg/m^3, kBot 3e6 Pa/m, cBot 3e5 Pa s/m, no friction; the water at
+least as deep as the lowest point).
 
-* one line between two points that are ``Fixed``, ``Coupled`` or ``Vessel``: the higher one is
-  the ship's fairlead (``ship.position``, ``ship.fairlead_z``), the other the anchored robot end
-  (``robot.type = "anchor"``); or a chain of lines joined end to end at ``Free`` points (each in
-  exactly two lines) between two such points: a line make-up, one ``[[tether.sections]]`` per
-  line and a ``[[tether.point_loads]]`` (mass, volume, CdA, Ca) at each free point that has
-  any (a clump weight or buoyancy module at a joint). Written back the same way (floats and
-  loads off the nodes refused);
-* line type columns Diam, Mass/m, EA, BA/-zeta, EI, Cd, Ca, CdAx, CaAx (+ Cl, dF, cF = 0):
-  ``tether.diameter``, ``mass_per_length``, ``EA``, ``EI``, ``cd_normal``, ``ca_normal``,
-  ``cd_tangential``, and CaAx = Ca or 0 as ``tether.added_mass`` "isotropic" or "normal";
-* options WtrDpth, rho/rhoW, g, kBot, cBot, FrictionCoefficient, dtM: ``water.depth``,
-  ``water.density.rho``, ``water.gravity``, ``water.seabed_stiffness`` and ``seabed_damping``,
-  ``tether.seabed_friction`` (0 when not given, as in MoorDyn), ``simulation.timestep`` (dtM
-  capped at 10 ms: mjtether
-  integrates implicitly and needs no explicit-scheme step).
+``read`` then gives
 
-Refused, with the line of the file named: lines that do not form one chain (a bridle, a free
-point in three lines, several anchors), bodies and rods; a BA in N s (mjtether's axial damping is a fraction of critical:
-give a negative BA); VIV (Cl != 0); waves, currents and seafloor files; a static/dynamic
-friction ratio other than 1 (mjtether's seabed friction is one coefficient). Approximated,
-with a warning naming the line: CaAx other than Ca or 0 (mjtether's added mass along the line
-is all of Ca, ``tether.added_mass = "isotropic"``, or none, ``"normal"``) and BA/-zeta (mjtether damps each element's stretch critically). Read and not needed: the
-options of MoorDyn's own integrator and initial-condition solver (tScheme, CFL, dtIC, TmaxIC,
-CdScaleIC, threshIC, ICgenDynamic), FricDamp (mjtether's friction sticks exactly: the
-limit FricDamp -> infinity), and the output options and OUTPUTS section (mjtether's outputs
-are its own).
+* a ``Scenario`` for one line, or a chain of lines joined end to end at free points (each in
+  two lines), from one coupled point (the ship's fairlead) to one fixed point (the anchored
+  robot end): a chain is a line make-up, one ``[[tether.sections]]`` per line and a
+  ``[[tether.point_loads]]`` at each free point with mass, volume or drag;
+* a ``mjtether.network.Network`` for anything else: several lines sharing points, free points
+  and free line ends, fixed or coupled or free bodies. It settles for the file's TmaxIC (at most
+  ``MAX_SETTLE``) before its run, as MoorDyn relaxes before its own.
+
+Line types: Diam, Mass/m, EA, BA/-zeta, EI, Cd, Ca, CdAx, CaAx; CaAx = Ca is mjtether's
+isotropic added mass, CaAx = 0 its "normal" one (other values: the nearer, with a warning);
+BA/-zeta: mjtether damps each element's stretch critically (noted). Read, not needed: the
+options of MoorDyn's own integrator and initial-condition solver (dtM, CFL, tScheme, dtIC,
+TmaxIC, CdScaleIC, threshIC, ICgenDynamic, fileIC; mjtether picks its own stable step and
+starts from its steady state), FricDamp (mjtether's friction sticks exactly), the output
+options and the OUTPUTS section. Refused, naming the feature and the file's line: rods, line
+failure, SYROPE line types, viscoelastic ('|') or nonlinear (a curve file) EA, BA in N s, VIV
+(Cl != 0), pinned bodies, waves (WaveKin), MoorDyn's current files (Currents), a 3-D seafloor
+(SeafloorFile) and static friction other than kinetic (StatDynFricScale).
 
 The run's duration is not in a MoorDyn file: 60 s unless ``--set simulation.duration=...``.
 """
@@ -40,6 +41,7 @@ from __future__ import annotations
 import math
 import re
 import warnings
+from dataclasses import dataclass
 from pathlib import Path
 
 from mjtether.scenario import Scenario, ScenarioError, load_scenario
@@ -47,49 +49,91 @@ from mjtether.scenario import Scenario, ScenarioError, load_scenario
 DEFAULT_DURATION = 60.0
 """Simulated time (s) of a scenario read from a MoorDyn file, which does not say."""
 
-_HEADER = re.compile(r"^\s*-{2,}\s*([A-Za-z][A-Za-z /]*?)\s*-*\s*$")
-_IGNORED_OPTIONS = {"writelog", "tscheme", "cfl", "dtic", "tmaxic", "cdscaleic", "threshic", "icgendynamic",
-                    "fricdamp", "cv", "dtout", "writeunits", "disableoutput", "disableouttime", "echo",
-                    "outswitch", "dtwave", "wavekin_rampt", "unifycurrentgrid"}
-_REFUSED_SECTIONS = ("ROD TYPES", "BODIES", "RODS", "FAILURE", "CONTROL", "EXTERNAL LOADS")
+MAX_SETTLE = 60.0
+"""Longest a network read from a MoorDyn file settles before its run (s); see ``_network``."""
+
+MOORDYN_G = 9.80665
+"""MoorDyn-C's default gravity (m/s^2)."""
+
+_HEADER = re.compile(r"^\s*-{2,}.*$")
+# MoorDyn-C 2.7 (MoorDyn2.cpp, findStartOfSection): a header line holds "---" and one of these
+_SECTIONS = {
+    "LINE TYPES": ("LINE DICTIONARY", "LINE TYPES"),
+    "ROD TYPES": ("ROD DICTIONARY", "ROD TYPES"),
+    "BODIES": ("BODIES", "BODY LIST", "BODY PROPERTIES"),
+    "RODS": ("RODS", "ROD LIST", "ROD PROPERTIES"),
+    "POINTS": ("POINTS", "POINT LIST", "POINT PROPERTIES", "CONNECTION PROPERTIES", "NODE PROPERTIES"),
+    "LINES": ("LINES", "LINE LIST", "LINE PROPERTIES"),
+    "FAILURE": ("FAILURE",),
+    "SYROPE IC": ("SYROPE IC",),
+    "OPTIONS": ("OPTIONS",),
+    "OUTPUTS": ("OUTPUTS",),
+}
+_REFUSED_SECTIONS = {"ROD TYPES": "rods", "RODS": "rods", "FAILURE": "line failure",
+                     "SYROPE IC": "SYROPE line types"}
+# MoorDyn-C's option names and aliases (MoorDyn2.cpp, readOptionsLine), lower case
+_OPTION_ALIASES = {"dt": "dtm", "gravity": "g", "wtrdnsty": "rho", "kb": "kbot", "cb": "cbot", "icdt": "dtic",
+                   "ictmax": "tmaxic", "icdfac": "cdscaleic", "icthresh": "threshic",
+                   "gendynamicic": "icgendynamic", "icfile": "fileic"}
+_SOLVER_OPTIONS = {"dtm", "cfl", "tscheme", "dtic", "tmaxic", "cdscaleic", "threshic", "icgendynamic", "fileic",
+                   "fricdamp"}
+"""Options that steer MoorDyn's own integrator and initial-condition solver: read, not needed
+(mjtether picks its own stable step and starts from its steady state; its friction sticks
+exactly, the limit FricDamp -> infinity)."""
+_OUTPUT_OPTIONS = {"writelog", "writeunits", "dtout", "disableoutput", "disableouttime", "dtwave",
+                   "unifycurrentgrid"}
+_KNOWN_OPTIONS = {"g", "rho", "wtrdpth", "kbot", "cbot", "frictioncoefficient", "statdynfricscale", "wavekin",
+                  "currents", "seafloorfile"} | _SOLVER_OPTIONS | _OUTPUT_OPTIONS
+# point and body attachment words (MoorDyn2.cpp), upper case
+_FIXED, _COUPLED, _FREE = ("ANCHOR", "FIXED", "FIX"), ("FAIRLEAD", "VESSEL", "VES", "COUPLED", "CPLD"), \
+    ("POINT", "CONNECT", "CON", "FREE")
+_PINNED = ("VESSELPINNED", "VESPIN", "CPLDPIN", "COUPLEDPINNED")
 
 
 class MoorDynWarning(UserWarning):
-    """A MoorDyn entry mjtether approximates (the message names the line)."""
+    """A MoorDyn entry mjtether approximates or does not know (the message names the line)."""
 
 
 def is_moordyn(text: str) -> bool:
     """Whether ``text`` looks like a MoorDyn input file (it has a LINE TYPES or LINE DICTIONARY section)."""
-    return any((m := _HEADER.match(line)) and m.group(1).strip().upper() in ("LINE TYPES", "LINE DICTIONARY")
+    return any(_HEADER.match(line) and ("LINE TYPES" in line.upper() or "LINE DICTIONARY" in line.upper())
                for line in text.splitlines())
 
 
-def _sections(name: str, text: str) -> dict[str, list[tuple[int, list[str]]]]:
-    """{section title: [(line number, fields), ...]} with comments (!, #, %) removed."""
-    out: dict[str, list] = {}
+def _section_of(line: str) -> str | None:
+    up = line.upper()
+    for key, names in _SECTIONS.items():
+        if any(n in up for n in names):
+            return key
+    return None
+
+
+def _sections(name: str, text: str) -> dict[str, tuple[int, list[tuple[int, list[str]]]]]:
+    """{section: (header line number, [(line number, fields), ...])}: every line between a
+    header and the next, as MoorDyn-C reads them (fields split on blanks; text after ``!``, ``#``
+    or ``%`` left out); headers that name no section MoorDyn reads (the title, "need this
+    line") close the section before them."""
+    out: dict = {}
     current = None
     for no, raw in enumerate(text.splitlines(), 1):
         line = re.split(r"[!#%]", raw, maxsplit=1)[0].rstrip()
-        m = _HEADER.match(line)
-        if m:
-            current = m.group(1).strip().upper()
-            if current in ("LINE DICTIONARY", "NODE PROPERTIES", "LINE PROPERTIES", "SOLVER OPTIONS",
-                           "POINT PROPERTIES", "CONNECTION PROPERTIES"):
-                raise ScenarioError(f"{name}: line {no}: '{current}' is a MoorDyn v1 section; mjtether reads the v2 "
-                                    "format (LINE TYPES, POINTS, LINES, OPTIONS)")
-            out.setdefault(current, [])
+        if _HEADER.match(raw):
+            current = _section_of(raw)
+            if current is not None:
+                out.setdefault(current, (no, []))
             continue
         if current is None or not line.strip():
             continue
-        out[current].append((no, line.split()))
+        out[current][1].append((no, line.split()))
     return out
 
 
-def _table(name, rows, section):
-    """The data rows of a table section: its first two rows are column names and units."""
+def _table(name, sec, key):
+    """The data rows of a table section (its first two rows are column names and units)."""
+    no, rows = sec[key]
     if len(rows) < 2:
-        raise ScenarioError(f"{name}: the {section} section needs its column-name and unit lines")
-    return rows[2:]
+        raise ScenarioError(f"{name}: line {no}: the {key} section needs its column-name and unit lines")
+    return rows[0], rows[2:]
 
 
 def _number(name, no, text, what):
@@ -99,202 +143,359 @@ def _number(name, no, text, what):
         raise ScenarioError(f"{name}: line {no}: {what} must be a number, got {text!r}") from None
 
 
-def read(path=None, *, text: str | None = None, name: str | None = None, overrides=()) -> Scenario:
-    """The scenario a MoorDyn v2 file describes (see the module docstring), checked; ``overrides``
-    as in ``load_scenario`` (``simulation.duration=...``)."""
-    if name is None:
-        name = str(path) if path is not None else "<moordyn>"
-    if text is None:
-        from mjtether.scenario.loading import _read
-        text = _read(name, path)
-    raw = to_dict(text, name)
-    return load_scenario(data=raw, name=name, overrides=overrides)
+def _word(text: str) -> tuple[str, str]:
+    """MoorDyn's decomposeString: the leading letters (upper case) and the number after them."""
+    m = re.match(r"([A-Za-z]*)(\d*)", text)
+    return m.group(1).upper(), m.group(2)
 
 
-def to_dict(text: str, name: str = "<moordyn>") -> dict:
-    """The scenario tree (as TOML would hold it) of a MoorDyn v2 file's text."""
+@dataclass
+class Parsed:
+    """A MoorDyn file read: its line types, points, bodies and lines (``mjtether.network``
+    objects), the options mjtether uses, and notes on what it read but does not need."""
+
+    name: str
+    line_types: dict
+    points: dict
+    bodies: dict
+    lines: list
+    rows: dict  # object name -> the file's line number
+    depth: float
+    rho: float
+    gravity: float
+    kbot: float
+    cbot: float
+    friction: float
+    tmax_ic: float
+    notes: list
+
+
+def parse(text: str, name: str = "<moordyn>") -> Parsed:
+    """Read a MoorDyn v2 file as MoorDyn-C 2.7 reads it; ScenarioError naming the file's line for
+    what mjtether cannot represent (rods, VIV, viscoelastic or nonlinear line types, waves,
+    currents, a 3-D seafloor, line failure) or what is not a valid entry."""
+    from mjtether.network import Body, Line, LineType, Point
     sec = _sections(name, text)
-    for s in _REFUSED_SECTIONS:
-        rows = sec.get(s, [])
-        if len(rows) > 2:
-            raise ScenarioError(f"{name}: line {rows[2][0]}: {s.lower()} are not supported by mjtether (it runs one "
-                                "line between a fixed or coupled fairlead and an anchor)")
+    for key, what in _REFUSED_SECTIONS.items():
+        if key in sec and len(sec[key][1]) > (2 if key != "FAILURE" else 1):
+            no = sec[key][1][min(2, len(sec[key][1]) - 1)][0]
+            raise ScenarioError(f"{name}: line {no}: {what} ({key} section) are not supported by mjtether")
     if "LINE TYPES" not in sec:
-        raise ScenarioError(f"{name}: no LINE TYPES section: not a MoorDyn v2 input file")
-    for s in ("POINTS", "LINES"):
-        if s not in sec:
-            raise ScenarioError(f"{name}: no {s} section")
+        raise ScenarioError(f"{name}: line 1: no LINE TYPES section: not a MoorDyn v2 input file")
+    for key in ("POINTS", "LINES"):
+        if key not in sec:
+            raise ScenarioError(f"{name}: line 1: no {key} section")
+    notes, rows = [], {}
+
+    # options first: g and rho are needed for the rest
+    options = {}
+    for no, f in sec.get("OPTIONS", (0, []))[1]:
+        if len(f) < 2:
+            warnings.warn(f"{name}: line {no}: an option is a value then its name; ignored (as MoorDyn does)",
+                          MoorDynWarning, stacklevel=3)
+            continue
+        key = _OPTION_ALIASES.get(f[1].lower(), f[1].lower())
+        if key not in _KNOWN_OPTIONS:
+            warnings.warn(f"{name}: line {no}: option {f[1]!r} is not a MoorDyn-C 2.7 option; ignored (as MoorDyn "
+                          "does)", MoorDynWarning, stacklevel=3)
+            continue
+        options[key] = (no, f[0])
+
+    def opt(key, default):
+        if key not in options:
+            return default
+        no, val = options[key]
+        return _number(name, no, val, f"option {key}")
+
+    for key in ("wavekin", "currents"):
+        if key in options and opt(key, 0) != 0:
+            what = "waves" if key == "wavekin" else "currents from MoorDyn's current files"
+            raise ScenarioError(f"{name}: line {options[key][0]}: {key} = {options[key][1]}: {what} are not "
+                                "supported by mjtether")
+    if "seafloorfile" in options:
+        raise ScenarioError(f"{name}: line {options['seafloorfile'][0]}: SeafloorFile: a 3-D seafloor is not "
+                            "supported by mjtether yet")
+    if opt("statdynfricscale", 1.0) != 1.0:
+        raise ScenarioError(f"{name}: line {options['statdynfricscale'][0]}: StatDynFricScale = "
+                            f"{options['statdynfricscale'][1]}: static and kinetic friction differ; mjtether's "
+                            "seabed friction is one coefficient")
+    for key in sorted(set(options) & _SOLVER_OPTIONS):
+        if key not in ("tscheme", "fileic"):
+            opt(key, 0.0)  # (a number, as MoorDyn needs, though mjtether does not use it)
+        notes.append(f"line {options[key][0]}: {key} = {options[key][1]} (MoorDyn's own solver): not needed")
+    g, rho = opt("g", MOORDYN_G), opt("rho", 1025.0)
 
     types = {}
-    for no, f in _table(name, sec["LINE TYPES"], "LINE TYPES"):
+    _, type_rows = _table(name, sec, "LINE TYPES")
+    for no, f in type_rows:
         if len(f) < 10:
             raise ScenarioError(f"{name}: line {no}: a line type needs TypeName Diam Mass/m EA BA/-zeta EI Cd Ca CdAx "
                                 f"CaAx, got {len(f)} columns")
         if "|" in f[3] or "|" in f[4]:
-            raise ScenarioError(f"{name}: line {no}: viscoelastic EA or BA ('|') is not supported")
+            raise ScenarioError(f"{name}: line {no}: viscoelastic line types ('|' in EA or BA) are not supported by "
+                                "mjtether")
+        for col, what in ((3, "EA"), (5, "EI")):
+            try:
+                float(f[col])
+            except ValueError:
+                raise ScenarioError(f"{name}: line {no}: a nonlinear {what} curve ({f[col]!r}) is not supported by "
+                                    "mjtether") from None
         v = [_number(name, no, x, col) for x, col in zip(f[1:10], ("Diam", "Mass/m", "EA", "BA/-zeta", "EI", "Cd",
                                                                     "Ca", "CdAx", "CaAx"))]
         extra = [_number(name, no, x, "Cl/dF/cF") for x in f[10:13]]
         if extra and extra[0] != 0.0:
-            raise ScenarioError(f"{name}: line {no}: VIV (Cl = {extra[0]:g}) is not supported")
+            raise ScenarioError(f"{name}: line {no}: VIV (Cl = {extra[0]:g}) is not supported by mjtether")
         diam, mass, EA, BA, EI, cd, ca, cdax, caax = v
         if BA > 0:
             raise ScenarioError(f"{name}: line {no}: BA = {BA:g} N s: mjtether damps each element's stretch as a "
                                 "fraction of critical; give a negative BA (-zeta)")
         if BA < 0 and BA != -1.0:
-            warnings.warn(f"{name}: line {no}: BA/-zeta = {BA:g}: mjtether damps each element's stretch critically "
-                          "(zeta = 1)", MoorDynWarning, stacklevel=3)
-        # the added mass along the line: CaAx = Ca is mjtether's isotropic added mass, CaAx = 0 its
-        # "normal" one; anything else is the nearer of the two
-        added_mass = "normal" if caax < 0.5 * ca else "isotropic"
+            notes.append(f"line {no}: BA/-zeta = {BA:g}: mjtether damps each element's stretch critically (zeta 1)")
         if caax not in (0.0, ca):
             warnings.warn(f"{name}: line {no}: CaAx = {caax:g}: mjtether's added mass along the line is either Ca "
-                          f"({ca:g}) or 0; taking {'0' if added_mass == 'normal' else 'Ca'} (tether.added_mass = "
-                          f"\"{added_mass}\")", MoorDynWarning, stacklevel=3)
-        types[f[0]] = {"diameter": diam, "mass_per_length": mass, "EA": EA, "EI": EI, "cd_normal": cd,
-                       "ca_normal": ca, "cd_tangential": cdax, "added_mass": added_mass}
+                          f"({ca:g}) or 0; taking the nearer", MoorDynWarning, stacklevel=3)
+        try:
+            types[f[0]] = LineType(f[0], diam, mass, EA, EI, cd, ca, cdax, caax)
+        except ValueError as exc:
+            raise ScenarioError(f"{name}: line {no}: {exc}") from None
+
+    bodies = {}
+    if "BODIES" in sec:
+        _, body_rows = _table(name, sec, "BODIES")
+        for no, f in body_rows:
+            bodies[f[0]] = _body(name, no, f, Body)
+            rows[f"body{f[0]}"] = no
 
     points = {}
-    for no, f in _table(name, sec["POINTS"], "POINTS"):
-        if len(f) < 8:
-            raise ScenarioError(f"{name}: line {no}: a point needs ID Attachment X Y Z Mass Volume CdA Ca")
-        kind = f[1].lower()
-        if kind == "connect":  # (MoorDyn's older word for a free point)
-            kind = "free"
-        if kind not in ("fixed", "coupled", "vessel", "free"):
-            raise ScenarioError(f"{name}: line {no}: point {f[0]} is {f[1]!r}: mjtether supports Fixed, Coupled "
-                                "(Vessel) and Free points; body points are not supported")
+    depth = opt("wtrdpth", 0.0)
+    _, point_rows = _table(name, sec, "POINTS")
+    for k, (no, f) in enumerate(point_rows, 1):
+        if len(f) < 9:
+            raise ScenarioError(f"{name}: line {no}: a point needs 9 fields (ID Attachment X Y Z Mass Volume CdA Ca) "
+                                f"or 12 (with Fx Fy Fz before CdA), got {len(f)}")
+        if f[0] != str(k):
+            raise ScenarioError(f"{name}: line {no}: point IDs must run 1, 2, 3, ... (as MoorDyn requires); got {f[0]!r}")
         xyz = [_number(name, no, x, "X/Y/Z") for x in f[2:5]]
-        load = [_number(name, no, x, "Mass/Volume/CdA/Ca") for x in f[5:9]]
-        points[f[0]] = (no, kind, xyz, load)
+        mass, volume = _number(name, no, f[5], "Mass"), _number(name, no, f[6], "Volume")
+        force = [0.0, 0.0, 0.0]
+        if len(f) >= 12:  # (MoorDyn-C: 12 fields carry a force Fx Fy Fz before CdA and Ca)
+            force = [_number(name, no, x, "Fx/Fy/Fz") for x in f[7:10]]
+            cda, ca = _number(name, no, f[10], "CdA"), _number(name, no, f[11], "Ca")
+        else:
+            cda, ca = _number(name, no, f[7], "CdA"), _number(name, no, f[8], "Ca")
+        word, num = _word(f[1])
+        body = None
+        if word in _FIXED:
+            kind = "fixed"
+        elif word in _COUPLED:
+            kind = "coupled"
+        elif word in _FREE:
+            kind = "free"
+        elif word == "BODY":
+            if num not in bodies:
+                raise ScenarioError(f"{name}: line {no}: point {f[0]} is on body {num or '?'}, which is not in the "
+                                    "BODIES section")
+            kind, body = "body", num
+        else:
+            raise ScenarioError(f"{name}: line {no}: point type {f[1]!r} is not one MoorDyn reads (Fixed, Anchor, Fix; "
+                                "Vessel, Ves, Coupled, Cpld, Fairlead; Free, Point, Connect, Con; Body<n>)")
+        if body is None and xyz[2] < -depth:
+            depth = -xyz[2]  # (MoorDyn: the water is at least as deep as the lowest point)
+        try:
+            points[f[0]] = Point(f[0], kind, xyz, body=body, mass=mass, volume=volume, cd_area=cda, ca=ca,
+                                 force=force)
+        except ValueError as exc:
+            raise ScenarioError(f"{name}: line {no}: {exc}") from None
+        rows[f"point{f[0]}"] = no
 
-    chain, top, bottom = _chain(name, _table(name, sec["LINES"], "LINES"), types, points)
-    options = {}
-    for ono, fo in sec.get("OPTIONS", []):
-        if len(fo) < 2:
-            raise ScenarioError(f"{name}: line {ono}: an option is a value then its name")
-        options[fo[1].lower()] = (ono, fo[0])
-
-    def opt(key, default=None):
-        if key not in options:
-            return default
-        ono, val = options.pop(key)
-        return _number(name, ono, val, key)
-
-    depth = opt("wtrdpth")
-    if depth is None or depth <= 0:
-        raise ScenarioError(f"{name}: OPTIONS: WtrDpth (the water depth, m) is required and must be > 0")
-    rho = opt("rho", opt("rhow", 1025.0))
-    sc: dict = {
-        "simulation": {"duration": DEFAULT_DURATION},
-        "water": {"depth": depth, "density": {"type": "constant", "rho": rho}, "gravity": opt("g", 9.81)},
-        "tether": _tether(name, chain, types, points),
-        "ship": {"mode": "fixed", "position": top[2][:2], "fairlead_z": top[2][2]},
-        "winch": {"mode": "fixed"},
-        "robot": {"type": "anchor", "position": bottom[2]},
-    }
-    kb, cb = opt("kbot"), opt("cbot")
-    if kb is not None:
-        sc["water"]["seabed_stiffness"] = kb
-        sc["water"]["seabed_damping"] = 3.0e5 if cb is None else cb
-    mu = opt("frictioncoefficient", opt("mu_kt"))
-    sc["tether"]["seabed_friction"] = 0.0 if mu is None else mu  # (MoorDyn's default: no friction)
-    mu_ka = opt("mu_ka")
-    if mu_ka is not None and mu is not None and mu_ka != mu:
-        raise ScenarioError(f"{name}: line {options.get('mu_ka', (no,))[0]}: axial friction MU_KA differs from "
-                            "transverse: mjtether's seabed friction is one coefficient")
-    for key in ("statdynfricscale", "mc"):
-        val = opt(key)
-        if val is not None and val != 1.0:
-            raise ScenarioError(f"{name}: {key}: static and kinetic friction differ ({val:g}); mjtether's seabed "
-                                "friction is one coefficient")
-    dtm = opt("dtm")
-    if dtm is not None:
-        sc["simulation"]["timestep"] = min(max(dtm, 1e-5), 0.01)
-    for key in ("wavekin", "currents"):
-        val = opt(key)
-        if val:
-            raise ScenarioError(f"{name}: line {options.get(key, (0,))[0]}: {key} = {val:g}: waves and current "
-                                "grids are not supported (give the current in the scenario instead)")
-    for key, (ono, val) in options.items():
-        if key == "seafloorfile":
-            raise ScenarioError(f"{name}: line {ono}: SeafloorFile: bathymetry files are not supported")
-        if key not in _IGNORED_OPTIONS:
-            raise ScenarioError(f"{name}: line {ono}: option {key!r} is not supported by mjtether")
-    return sc
-
-
-def _chain(name, lines, types, points):
-    """The lines of the file as one chain from the fairlead to the anchor: ([(line number, line
-    type, unstretched length, segments, the free point after it or None), ...], top point,
-    bottom point). Lines join end to end at Free points, each in exactly two lines; the chain's
-    ends are the two points that are not Free, the higher one the fairlead."""
-    if not lines:
-        raise ScenarioError(f"{name}: the LINES section has no line")
-    ends = {}  # point id -> [(line number, other end, type, length, segments)]
-    for no, f in lines:
+    lines = []
+    _, line_rows = _table(name, sec, "LINES")
+    for k, (no, f) in enumerate(line_rows, 1):
         if len(f) < 6:
             raise ScenarioError(f"{name}: line {no}: a line needs ID LineType AttachA AttachB UnstrLen NumSegs")
         if f[1] not in types:
             raise ScenarioError(f"{name}: line {no}: line type {f[1]!r} is not in LINE TYPES ({', '.join(types)})")
+        ends = []
         for end in f[2:4]:
-            if end not in points:
-                raise ScenarioError(f"{name}: line {no}: attachment {end!r} is not a point of POINTS (rod ends are "
-                                    "not supported)")
-        if f[2] == f[3]:
-            raise ScenarioError(f"{name}: line {no}: both ends on point {f[2]}")
-        length, segments = _number(name, no, f[4], "UnstrLen"), _number(name, no, f[5], "NumSegs")
-        for a, b in ((f[2], f[3]), (f[3], f[2])):
-            ends.setdefault(a, []).append((no, b, f[1], length, segments))
+            word, num = _word(end)
+            if word in ("R", "ROD"):
+                raise ScenarioError(f"{name}: line {no}: attachment {end!r} is a rod end; rods are not supported by "
+                                    "mjtether")
+            if word not in ("", "C", "CON", "P", "POINT") or num not in points:
+                raise ScenarioError(f"{name}: line {no}: attachment {end!r} is not a point of POINTS")
+            ends.append(num)
+        length, segs = _number(name, no, f[4], "UnstrLen"), _number(name, no, f[5], "NumSegs")
+        if not (segs >= 1 and float(segs).is_integer()):
+            raise ScenarioError(f"{name}: line {no}: NumSegs must be a whole number >= 1, got {f[5]!r}")
+        try:
+            lines.append(Line(f[0], f[1], ends[0], ends[1], length, int(segs)))
+        except ValueError as exc:
+            raise ScenarioError(f"{name}: line {no}: {exc}") from None
+        rows[f"line{f[0]}"] = no
+    if not lines:
+        raise ScenarioError(f"{name}: line {sec['LINES'][0]}: the LINES section has no line")
+    for pid, p in points.items():
+        if p.kind == "free" and not any(pid in (ln.a, ln.b) for ln in lines):
+            raise ScenarioError(f"{name}: line {rows['point' + pid]}: free point {pid} is in no line")
+    if depth <= 0:
+        raise ScenarioError(f"{name}: line {sec.get('OPTIONS', (1,))[0]}: WtrDpth (the water depth, m) is needed")
+    return Parsed(name, types, points, bodies, lines, rows, depth, rho, g, opt("kbot", 3.0e6), opt("cbot", 3.0e5),
+                  opt("frictioncoefficient", 0.0), opt("tmaxic", 120.0), notes)
+
+
+def _body(name, no, f, Body):
+    if len(f) < 14:
+        raise ScenarioError(f"{name}: line {no}: a body needs 14 fields (ID Attachment X0 Y0 Z0 r0 p0 y0 Mass CG* I* "
+                            f"Volume CdA* Ca*), got {len(f)}")
+    word, _ = _word(f[1])
+    kind = "fixed" if word in _FIXED else "coupled" if word in _COUPLED else "free" if word == "FREE" else None
+    if kind is None:
+        why = "pinned bodies" if word in _PINNED else f"body type {f[1]!r}"
+        raise ScenarioError(f"{name}: line {no}: {why} are not supported by mjtether (Fixed, Coupled, Free)")
+
+    def parts(text, what, counts):
+        vals = [_number(name, no, x, what) for x in text.split("|")]
+        if len(vals) not in counts:
+            raise ScenarioError(f"{name}: line {no}: {what} takes {' or '.join(map(str, counts))} values, got {text!r}")
+        return vals
+
+    cg = parts(f[9], "CG", (1, 3))
+    inertia = parts(f[10], "I", (1, 3))
+    cda = parts(f[12], "CdA", (1, 2, 3, 6))
+    ca = parts(f[13], "Ca", (1, 3))
+    pose = [_number(name, no, x, "X0/Y0/Z0/r0/p0/y0") for x in f[2:8]]
+    try:
+        return Body(f[0], kind, pose[:3], rpy_deg=pose[3:], mass=_number(name, no, f[8], "Mass"),
+                    cg=[0.0, 0.0, cg[0]] if len(cg) == 1 else cg, inertia=inertia * 3 if len(inertia) == 1 else inertia,
+                    volume=_number(name, no, f[11], "Volume"),
+                    cd_area=(cda[0],) * 3 if len(cda) <= 2 else cda[:3], ca=ca * 3 if len(ca) == 1 else ca)
+    except ValueError as exc:
+        raise ScenarioError(f"{name}: line {no}: {exc}") from None
+
+
+def read(path=None, *, text: str | None = None, name: str | None = None, overrides=()):
+    """What a MoorDyn v2 file describes: a ``Scenario`` for one line (or a chain of lines joined at
+    free points) from a coupled fairlead to a fixed anchor, otherwise a ``mjtether.network.Network``
+    (see the module docstring). ``overrides`` as in ``load_scenario`` (``simulation.duration=...``)."""
+    if name is None:
+        name = str(path) if path is not None else "<moordyn>"
+    if text is None:
+        from mjtether.scenario.loading import _read
+        text = _read(name, path)
+    p = parse(text, name)
+    if p.bodies or _chain(p) is None:
+        return _network(p, overrides)
+    return load_scenario(data=_tree(p), name=name, overrides=overrides)
+
+
+def to_dict(text: str, name: str = "<moordyn>") -> dict:
+    """The scenario tree (as TOML would hold it) of a MoorDyn v2 file that is one chain of lines
+    from a coupled fairlead to a fixed anchor; ScenarioError naming a line otherwise."""
+    return _tree(parse(text, name))
+
+
+def _tree(p: Parsed) -> dict:
+    name = p.name
+    found = None if p.bodies else _chain(p)
+    if found is None:
+        raise ScenarioError(f"{name}: line {p.rows['line' + p.lines[0].name]}: not one chain of lines from a "
+                            "coupled fairlead to a fixed anchor: a network (mjtether.network), not a scenario")
+    chain, top, bottom = found
+    sc: dict = {
+        "simulation": {"duration": DEFAULT_DURATION},
+        "water": {"depth": p.depth, "density": {"type": "constant", "rho": p.rho}, "gravity": p.gravity,
+                  "seabed_stiffness": p.kbot, "seabed_damping": p.cbot},
+        "tether": _tether(name, p, chain),
+        "ship": {"mode": "fixed", "position": list(top.position[:2]), "fairlead_z": top.position[2]},
+        "winch": {"mode": "fixed"},
+        "robot": {"type": "anchor", "position": list(bottom.position)},
+    }
+    sc["tether"]["seabed_friction"] = p.friction
+    return sc
+
+
+def _chain(p: Parsed):
+    """(lines from the fairlead to the anchor as [(line, free point after it or None)], top
+    point, bottom point) when the lines form one chain joined end to end at free points (each in
+    exactly two lines) from one coupled point to one fixed point; otherwise None."""
+    ends = {}
+    for ln in p.lines:
+        ends.setdefault(ln.a, []).append(ln)
+        ends.setdefault(ln.b, []).append(ln)
     for pid, attached in ends.items():
-        pno, kind = points[pid][0], points[pid][1]
-        want = 2 if kind == "free" else 1
-        if len(attached) != want:
-            raise ScenarioError(f"{name}: line {pno}: point {pid} ({kind}) has {len(attached)} lines attached; "
-                                f"mjtether runs one tether, a chain of lines joined end to end at free points "
-                                f"(each in exactly two lines), between two fixed or coupled points")
-    terminals = [pid for pid in ends if points[pid][1] != "free"]
-    if len(terminals) != 2:
-        raise ScenarioError(f"{name}: the lines do not form one chain between two fixed or coupled points "
-                            f"(they have {len(terminals)} such ends)")
-    top, bottom = sorted(terminals, key=lambda pid: -points[pid][2][2])
+        if len(attached) != (2 if p.points[pid].kind == "free" else 1):
+            return None
+    terminals = [pid for pid in ends if p.points[pid].kind != "free"]
+    kinds = sorted(p.points[pid].kind for pid in terminals)
+    if kinds != ["coupled", "fixed"]:
+        return None
+    top = next(pid for pid in terminals if p.points[pid].kind == "coupled")
+    bottom = next(pid for pid in terminals if p.points[pid].kind == "fixed")
+    if p.points[top].position[2] < p.points[bottom].position[2]:
+        return None
     chain, here, came = [], top, None
     while here != bottom:
-        (no, nxt, ltype, length, segments), = [e for e in ends[here] if e[0] != came]
-        chain.append((no, ltype, length, segments, nxt if nxt != bottom else None))
-        here, came = nxt, no
-    if len(chain) != len(lines):
-        raise ScenarioError(f"{name}: line {lines[0][0]}: the lines form more than one piece (a closed loop of free "
-                            "points?)")
-    return chain, points[top], points[bottom]
+        (ln,) = [x for x in ends[here] if x is not came]
+        nxt = ln.a if ln.b == here else ln.b
+        chain.append((ln, nxt if nxt != bottom else None))
+        here, came = nxt, ln
+    if len(chain) != len(p.lines):
+        return None
+    return chain, p.points[top], p.points[bottom]
 
 
-def _tether(name, chain, types, points) -> dict:
+def _tether(name, p: Parsed, chain) -> dict:
     """The ``[tether]`` tree of a chain: one line, uniform; several, a make-up with a section per
     line and a point load at each free point that has mass, volume or drag."""
-    def segs(no, x):
-        if not (x >= 1 and float(x).is_integer()):
-            raise ScenarioError(f"{name}: line {no}: NumSegs must be a whole number >= 1, got {x:g}")
-        return int(x)
+    def props(lt):
+        return {"diameter": lt.diameter, "mass_per_length": lt.mass_per_length, "EA": lt.EA, "EI": lt.EI,
+                "cd_normal": lt.cd_normal, "ca_normal": lt.ca_normal, "cd_tangential": lt.cd_tangential}
 
     if len(chain) == 1:
-        no, ltype, length, segments, _ = chain[0]
-        return {"length": length, "segments": segs(no, segments), **types[ltype]}
-    modes = {types[c[1]]["added_mass"] for c in chain}
+        ln = chain[0][0]
+        lt = p.line_types[ln.type]
+        return {"length": ln.length, "segments": ln.segments, **props(lt), "added_mass": lt.added_mass}
+    modes = {p.line_types[ln.type].added_mass for ln, _ in chain}
     if len(modes) > 1:
-        raise ScenarioError(f"{name}: line {chain[0][0]}: the lines' CaAx mix 0 and Ca; mjtether's added mass along "
-                            "the tether is one choice for all of it (tether.added_mass)")
+        raise ScenarioError(f"{name}: line {p.rows['line' + chain[0][0].name]}: the lines' CaAx mix 0 and Ca; "
+                            "mjtether's added mass along the tether is one choice for all of it (tether.added_mass)")
     sections, loads, arc = [], [], 0.0
-    for no, ltype, length, segments, joint in chain:
-        props = {k: v for k, v in types[ltype].items() if k != "added_mass"}
-        sections.append({"length": length, "segments": segs(no, segments), "name": ltype, **props})
-        arc += length
+    for ln, joint in chain:
+        sections.append({"length": ln.length, "segments": ln.segments, "name": ln.type,
+                         **props(p.line_types[ln.type])})
+        arc += ln.length
         if joint is not None:
-            mass, volume, cda, ca = points[joint][3]
-            if mass or volume or cda:
-                loads.append({"arc_length": arc, "mass": mass, "volume": volume, "cd_area": cda, "ca": ca,
-                              "name": f"point {joint}"})
+            q = p.points[joint]
+            if any(q.force):
+                raise ScenarioError(f"{name}: line {p.rows['point' + joint]}: a force on a point of a line make-up "
+                                    "is not supported")
+            if q.mass or q.volume or q.cd_area:
+                loads.append({"arc_length": arc, "mass": q.mass, "volume": q.volume, "cd_area": q.cd_area,
+                              "ca": q.ca, "name": f"point {joint}"})
     return {"sections": sections, "point_loads": loads, "added_mass": modes.pop()}
+
+
+def _network(p: Parsed, overrides=()):
+    """The ``Network`` of a parsed file; ``overrides``: ``simulation.duration``, ``.timestep``
+    and ``.output_interval``."""
+    from mjtether.network import Network
+    # MoorDyn relaxes the system for up to TmaxIC before its run: mjtether settles as long (at most
+    # MAX_SETTLE), damped, from its steady state
+    sim = {"duration": DEFAULT_DURATION, "timestep": None, "output_interval": 0.1,
+           "settle": min(p.tmax_ic, MAX_SETTLE)}
+    for item in overrides:
+        key, _, val = str(item).partition("=")
+        field = key.strip().removeprefix("simulation.")
+        if not key.strip().startswith("simulation.") or field not in sim:
+            raise ScenarioError(f"--set {key.strip()}: a MoorDyn network takes simulation.duration, "
+                                "simulation.timestep, simulation.output_interval and simulation.settle", key.strip())
+        sim[field] = _number(p.name, 0, val, key.strip()) if val.strip().lower() != "none" else None
+    try:
+        return Network(p.name, p.line_types, p.points, tuple(p.lines), bodies=p.bodies, depth=p.depth, rho=p.rho,
+                       gravity=p.gravity, seabed_stiffness=p.kbot, seabed_damping=p.cbot,
+                       seabed_friction=p.friction, notes=tuple(p.notes), **sim)
+    except ValueError as exc:
+        raise ScenarioError(f"{p.name}: {exc}") from None
 
 
 def write(sc: Scenario) -> str:

@@ -59,7 +59,8 @@ def test_file_maps_onto_the_scenario_keys():
     assert (w.depth, w.density.rho, w.gravity, w.seabed_stiffness, w.seabed_damping) == (150.0, 1025.0, 9.81, 3e6, 3e5)
     assert sc.robot.type == "anchor" and sc.robot.position == (-400.0, 0.0, -150.0)
     assert sc.ship.position == (0.0, 0.0) and sc.ship.fairlead_z == -9.0
-    assert sc.simulation.timestep == 0.002 and sc.simulation.duration == moordyn.DEFAULT_DURATION
+    # (dtM is MoorDyn's explicit step: mjtether takes its own, the default 5 ms)
+    assert sc.simulation.timestep == 0.005 and sc.simulation.duration == moordyn.DEFAULT_DURATION
 
 
 def test_a_moordyn_file_runs_to_the_analytic_catenary(tmp_path, capsys):
@@ -86,8 +87,8 @@ def test_a_moordyn_file_runs_to_the_analytic_catenary(tmp_path, capsys):
 
 def test_round_trips():
     """MoorDyn -> scenario -> MoorDyn -> scenario gives the same scenario, and a scenario
-    written as MoorDyn and read back is the same scenario (its duration aside: MoorDyn files
-    have none)."""
+    written as MoorDyn and read back is the same scenario (its duration and time step aside:
+    MoorDyn files have no duration, and their dtM is MoorDyn's step, not mjtether's)."""
     sc = moordyn.read(text=chain(), name="a")
     again = moordyn.read(text=moordyn.write(sc), name="b")
     assert again == sc
@@ -96,7 +97,8 @@ def test_round_trips():
                               'diameter = 0.03\nmass_per_length = 2.0\nEA = 2e6\nEI = 50.0\nseabed_friction = 0.3\n'
                               '[ship]\nposition = [5.0, -2.0]\nfairlead_z = -3.0\n[robot]\ntype = "anchor"\n'
                               'position = [60.0, 10.0, -80.0]\n')
-    back = moordyn.read(text=moordyn.write(toml), name="c", overrides=["simulation.duration=5.0"])
+    back = moordyn.read(text=moordyn.write(toml), name="c",
+                        overrides=["simulation.duration=5.0", "simulation.timestep=0.004"])
     assert back == toml
 
 
@@ -119,35 +121,24 @@ def test_axial_added_mass_maps_onto_added_mass_and_back():
 
 
 REFUSED = {  # name: (edit of the chain file, what the error must contain)
-    "two lines side by side": (("1     Chain       1        2        450        40       pt",
-                                "1     Chain       1        2        450        40       pt\n2     Chain       1        2        450        40       pt"),
-                               "line 11: point 1 (fixed) has 2 lines attached"),
-    "a free end": (("2     Coupled    0       0     -9      0      0       0      0",
-                    "2     Free       0       0     -9      500    0       0      0"),
-                   "line 12: point 2 (free) has 1 lines attached"),
-    "a body point": (("2     Coupled    0       0     -9      0      0       0      0",
-                      "2     Body1      0       0     -9      0      0       0      0"),
-                     "line 12: point 2 is 'Body1': mjtether supports Fixed, Coupled (Vessel) and Free points"),
+    "a body point without its body": (("2     Coupled    0       0     -9      0      0       0      0",
+                                       "2     Body1      0       0     -9      0      0       0      0"),
+                                      "line 12: point 2 is on body 1, which is not in the BODIES section"),
     "damping in N s": (("Chain      0.1      150.0     1e8    -1 ", "Chain      0.1      150.0     1e8    2e5 "),
                        "line 7: BA = 200000 N s"),
     "VIV": (("1.0     1.0\n---------------------- POINTS", "1.0     1.0   0.8\n---------------------- POINTS"),
             "line 7: VIV (Cl = 0.8) is not supported"),
-    "a v1 file": (("---------------------- LINE TYPES ---", "---------------------- LINE DICTIONARY ---"),
-                  "line 4: 'LINE DICTIONARY' is a MoorDyn v1 section"),
     "a text where a number goes": (("1     Chain       1        2        450 ", "1     Chain       1        2        long "),
                                    "line 16: UnstrLen must be a number, got 'long'"),
-    "an unknown option": (("150           WtrDpth", "7             Wiggle\n150           WtrDpth"),
-                          "option 'wiggle' is not supported"),
     "a seafloor file": (("150           WtrDpth", "sea.txt       SeafloorFile\n150           WtrDpth"),
-                        "SeafloorFile: bathymetry files are not supported"),
+                        "line 21: SeafloorFile: a 3-D seafloor is not supported"),
     "a current grid": (("150           WtrDpth", "1             Currents\n150           WtrDpth"),
-                       "currents = 1: waves and current grids are not supported"),
+                       "line 21: currents = 1: currents from MoorDyn's current files are not supported"),
     "static friction above kinetic": (("150           WtrDpth", "0.5 FrictionCoefficient\n1.5 StatDynFricScale\n150 WtrDpth"),
                                       "static and kinetic friction differ"),
     "a rod": (("---------------------- POINTS", "---------------------- RODS ---\nID RodType\n(#) (name)\n"
                "1 Can Fixed 0 0 0 0 0 5 4 -\n---------------------- POINTS"),
-              "rods are not supported by mjtether"),
-    "no depth": (("150           WtrDpth       water depth (m)\n", ""), "WtrDpth (the water depth, m) is required"),
+              "line 11: rods (RODS section) are not supported by mjtether"),
 }
 
 
@@ -159,6 +150,40 @@ def test_unsupported_entries_are_errors_naming_the_line(case):
     with pytest.raises(ScenarioError) as info:
         moordyn.read(text=text.replace(old, new, 1), name="chain.txt")
     assert str(info.value).startswith("chain.txt: ") and message in str(info.value), str(info.value)
+
+
+NETWORKS = {  # name: edit of the chain file that makes it a network of lines (not refused any more)
+    "two lines side by side": ("1     Chain       1        2        450        40       pt",
+                               "1     Chain       1        2        450        40       pt\n2     Chain       1        2   "
+                               "     450        40       pt"),
+    "a free end": ("2     Coupled    0       0     -9      0      0       0      0",
+                   "2     Free       0       0     -9      500    0       0      0"),
+}
+
+
+@pytest.mark.parametrize("case", list(NETWORKS))
+def test_what_is_not_one_line_reads_as_a_network(case):
+    from mjtether.network import Network
+
+    old, new = NETWORKS[case]
+    net = moordyn.read(text=chain().replace(old, new, 1), name="chain.txt")
+    assert isinstance(net, Network)
+
+
+def test_moordyn_c_spellings_read_as_moordyn_c_reads_them():
+    """MoorDyn-C 2.7's section headers, option aliases and point words (MoorDyn2.cpp): a LINE
+    DICTIONARY and POINT PROPERTIES, WtrDnsty, kb, cb, gravity, "Vessel"/"Anchor"; no WtrDpth
+    takes the depth of the lowest point; an unknown option is a warning, as in MoorDyn-C."""
+    text = (chain().replace("LINE TYPES", "LINE DICTIONARY").replace("- POINTS -", "- POINT PROPERTIES -")
+            .replace("1025          rho", "1000          WtrDnsty").replace("3000000       kbot", "2000000 kb")
+            .replace("300000        cbot", "200000 cb").replace("9.81          g", "9.80665 gravity")
+            .replace("1     Fixed  ", "1     Anchor ").replace("2     Coupled", "2     Vessel ")
+            .replace("150           WtrDpth       water depth (m)\n", "7 Wiggle\n"))
+    with pytest.warns(moordyn.MoorDynWarning, match="line 21: option 'Wiggle' is not a MoorDyn-C 2.7 option"):
+        sc = moordyn.read(text=text, name="chain.txt")
+    w = sc.water
+    assert (w.depth, w.density.rho, w.seabed_stiffness, w.seabed_damping, w.gravity) == \
+        (150.0, 1000.0, 2e6, 2e5, 9.80665)
 
 
 def test_what_moordyn_cannot_express_is_refused_when_writing():

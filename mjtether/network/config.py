@@ -1,0 +1,211 @@
+"""A network of mooring lines: line types, points, bodies and lines, as MoorDyn and MoorPy name them.
+
+A ``Network`` holds any number of lines, each between two points. A point is
+
+* ``fixed``: held in the world (an anchor, a fixed fairlead);
+* ``coupled``: moved by a coupled program (MoorDyn's ``Vessel``/``Coupled``); mjtether holds it
+  where the file puts it;
+* ``body``: fixed to a body, at ``position`` in the body's frame;
+* ``free``: a point mass with volume, drag area and added mass (a clump weight, a buoy, a
+  connecting ring, a free line end): its position is part of the solution.
+
+Several lines may share a point (a bridle, a spread mooring, two lines to one anchor). A body
+is ``coupled`` or ``fixed`` (held at its pose) or ``free`` (a 6-DOF rigid body). Units SI,
+world frame z up, water surface at z = 0, seabed at z = -depth; angles in degrees.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+from mjtether import _checks
+from mjtether.cable.tether import TetherSpec
+
+POINT_KINDS = ("fixed", "coupled", "body", "free")
+BODY_KINDS = ("fixed", "coupled", "free")
+DEFAULT_GRAVITY = 9.80665
+"""MoorDyn-C's default g (m/s^2)."""
+
+
+class NetworkError(ValueError):
+    """A network that cannot be built; the message names the field."""
+
+
+@dataclass(frozen=True)
+class LineType:
+    """A line's cross-section: diameter (m), mass per metre in air (kg/m), EA (N), EI (N m^2),
+    normal and axial drag (Cd on d l, CdAx on pi d l) and added mass (Ca, CaAx on rho pi d^2/4 l)."""
+
+    name: str
+    diameter: float
+    mass_per_length: float
+    EA: float
+    EI: float = 0.0
+    cd_normal: float = 1.2
+    ca_normal: float = 1.0
+    cd_tangential: float = 0.0
+    ca_tangential: float = 0.0
+
+    def __post_init__(self):
+        where = f"line type {self.name!r}"
+        _checks.positive(f"{where}: diameter", self.diameter, "m")
+        _checks.positive(f"{where}: mass_per_length", self.mass_per_length, "kg/m")
+        _checks.positive(f"{where}: EA", self.EA, "N")
+        for key in ("EI", "cd_normal", "ca_normal", "cd_tangential", "ca_tangential"):
+            _checks.non_negative(f"{where}: {key}", getattr(self, key))
+
+    @property
+    def added_mass(self) -> str:
+        """mjtether's added mass along the line: all of Ca (``"isotropic"``) or none (``"normal"``),
+        the nearer to CaAx."""
+        return "normal" if self.ca_tangential < 0.5 * self.ca_normal else "isotropic"
+
+    def tether(self, length: float, segments: int) -> TetherSpec:
+        return TetherSpec(length=length, segments=segments, diameter=self.diameter,
+                          mass_per_length=self.mass_per_length, cd_normal=self.cd_normal,
+                          cd_tangential=self.cd_tangential, ca_normal=self.ca_normal, EA=self.EA, EI=self.EI,
+                          added_mass=self.added_mass)
+
+    def wet_weight(self, rho: float, g: float) -> float:
+        """Submerged weight per metre (N/m; negative for a buoyant line)."""
+        return (self.mass_per_length - rho * math.pi * self.diameter ** 2 / 4) * g
+
+
+@dataclass(frozen=True)
+class Point:
+    """A point of the network (see the module docstring); ``position`` in m (world frame, or the
+    body's frame for a ``body`` point); mass (kg), volume (m^3), drag area CdA (m^2), added-mass
+    coefficient Ca (on rho V) and a constant force (N, world) for a ``free`` point."""
+
+    name: str
+    kind: str
+    position: tuple
+    body: str | None = None
+    mass: float = 0.0
+    volume: float = 0.0
+    cd_area: float = 0.0
+    ca: float = 0.0
+    force: tuple = (0.0, 0.0, 0.0)
+
+    def __post_init__(self):
+        where = f"point {self.name!r}"
+        if self.kind not in POINT_KINDS:
+            raise NetworkError(f"{where}: kind must be one of {', '.join(POINT_KINDS)}, got {self.kind!r}")
+        if (self.kind == "body") != (self.body is not None):
+            raise NetworkError(f"{where}: a body point names its body (and only a body point does)")
+        object.__setattr__(self, "position", tuple(_checks.vector3(f"{where}: position", self.position)))
+        object.__setattr__(self, "force", tuple(_checks.vector3(f"{where}: force", self.force)))
+        for key in ("mass", "volume", "cd_area", "ca"):
+            _checks.non_negative(f"{where}: {key}", getattr(self, key))
+
+
+@dataclass(frozen=True)
+class Body:
+    """A rigid body: pose (m; roll, pitch, yaw in degrees), mass (kg), centre of gravity (m, body
+    frame), principal inertia (kg m^2), volume (m^3), drag areas CdA (m^2, per body axis) and
+    added-mass coefficients (on rho V, per body axis)."""
+
+    name: str
+    kind: str
+    position: tuple
+    rpy_deg: tuple = (0.0, 0.0, 0.0)
+    mass: float = 0.0
+    cg: tuple = (0.0, 0.0, 0.0)
+    inertia: tuple = (0.0, 0.0, 0.0)
+    volume: float = 0.0
+    cd_area: tuple = (0.0, 0.0, 0.0)
+    ca: tuple = (0.0, 0.0, 0.0)
+
+    def __post_init__(self):
+        where = f"body {self.name!r}"
+        if self.kind not in BODY_KINDS:
+            raise NetworkError(f"{where}: kind must be one of {', '.join(BODY_KINDS)}, got {self.kind!r}")
+        for key in ("position", "rpy_deg", "cg", "inertia", "cd_area", "ca"):
+            object.__setattr__(self, key, tuple(_checks.vector3(f"{where}: {key}", getattr(self, key))))
+        _checks.non_negative(f"{where}: mass", self.mass)
+        _checks.non_negative(f"{where}: volume", self.volume)
+        if self.kind == "free" and (self.mass <= 0 or min(self.inertia) <= 0):
+            raise NetworkError(f"{where}: a free body needs a mass (kg) and inertia (kg m^2) > 0")
+
+
+@dataclass(frozen=True)
+class Line:
+    """A line of ``type`` from point ``a`` (MoorDyn's end A, usually the anchor) to point ``b``:
+    unstretched length (m) in ``segments`` elements."""
+
+    name: str
+    type: str
+    a: str
+    b: str
+    length: float
+    segments: int
+
+    def __post_init__(self):
+        where = f"line {self.name!r}"
+        _checks.positive(f"{where}: length", self.length, "m")
+        if not (isinstance(self.segments, int) and 1 <= self.segments <= 1000):
+            raise NetworkError(f"{where}: segments must be a whole number in [1, 1000], got {self.segments!r}")
+        if self.a == self.b:
+            raise NetworkError(f"{where}: both ends on point {self.a!r}")
+
+
+@dataclass(frozen=True)
+class Network:
+    """Lines between points in a water column (depth m, density kg/m^3, gravity m/s^2) with a
+    flat seabed of MoorDyn's contact (kBot Pa/m, cBot Pa s/m) and Coulomb friction; the run's
+    duration (s), time step (s; None: the largest stable one) and output interval (s); ``settle``
+    (s): how long it falls into place, damped, before the run (``mjtether.network.run.settle``)."""
+
+    name: str
+    line_types: dict
+    points: dict
+    lines: tuple
+    bodies: dict = field(default_factory=dict)
+    depth: float = 100.0
+    rho: float = 1025.0
+    gravity: float = DEFAULT_GRAVITY
+    seabed_stiffness: float = 3.0e6
+    seabed_damping: float = 3.0e5
+    seabed_friction: float = 0.0
+    duration: float = 60.0
+    timestep: float | None = None
+    output_interval: float = 0.1
+    settle: float = 0.0
+    notes: tuple = ()
+
+    def __post_init__(self):
+        _checks.positive("water.depth", self.depth, "m")
+        _checks.in_range("water.rho", self.rho, 900.0, 1100.0, "kg/m^3")
+        _checks.non_negative("water.gravity", self.gravity)
+        _checks.non_negative("water.seabed_stiffness", self.seabed_stiffness)
+        _checks.non_negative("water.seabed_damping", self.seabed_damping)
+        _checks.non_negative("water.seabed_friction", self.seabed_friction)
+        _checks.positive("simulation.duration", self.duration, "s")
+        _checks.positive("simulation.output_interval", self.output_interval, "s")
+        _checks.in_range("simulation.settle", self.settle, 0.0, 3600.0, "s")
+        if self.timestep is not None:
+            _checks.in_range("simulation.timestep", self.timestep, 1e-5, 0.05, "s")
+        if not self.lines:
+            raise NetworkError("lines: a network needs at least one line")
+        names = [ln.name for ln in self.lines]
+        if len(set(names)) != len(names):
+            raise NetworkError(f"lines: names must differ, got {names}")
+        for ln in self.lines:
+            if ln.type not in self.line_types:
+                raise NetworkError(f"line {ln.name!r}: type {ln.type!r} is not a line type "
+                                   f"({', '.join(self.line_types)})")
+            for end in (ln.a, ln.b):
+                if end not in self.points:
+                    raise NetworkError(f"line {ln.name!r}: point {end!r} is not a point ({', '.join(self.points)})")
+        for p in self.points.values():
+            if p.kind == "body" and p.body not in self.bodies:
+                raise NetworkError(f"point {p.name!r}: body {p.body!r} is not a body ({', '.join(self.bodies)})")
+
+    @property
+    def seabed_z(self) -> float:
+        return -self.depth
+
+    def attached(self, point: str) -> list[tuple[Line, str]]:
+        """The lines at ``point``, each with the end (``"a"`` or ``"b"``) that is there."""
+        return [(ln, end) for ln in self.lines for end in ("a", "b") if getattr(ln, end) == point]

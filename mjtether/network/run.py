@@ -1,0 +1,301 @@
+"""Build a network in MuJoCo and run it: every line a tether of ``mjtether.cable``, every free
+point and free body a rigid body with its hydrodynamics, every held point a world site.
+
+Each line is added with its end B as the tether's start and end A as its end (MoorDyn's ends:
+A usually the anchor, B the fairlead). A free point is a body with a free joint carrying the
+point's mass, buoyancy (its volume), drag (CdA, per world axis) and added mass (Ca rho V);
+a point lighter than the end nodes of its lines is given that much more inertia, with its
+weight compensated (MuJoCo's ``gravcomp``), so that the constraints that hold the line ends to
+it are as well conditioned as the rest: the statics are exact, and the point's inertia in the
+dynamics is that of the line ends it joins. Coupled and fixed bodies are held at their pose.
+
+The time step is the largest that every line allows (``cable.stability.max_timestep`` at the
+steady-state tension, and the seabed contact's limit), at most ``MAX_TIMESTEP``; a MoorDyn file's ``dtM``
+is for MoorDyn's explicit integrator and is not used.
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import math
+import time
+from dataclasses import dataclass
+
+import mujoco
+import numpy as np
+
+from mjtether.cable import builder, stability
+from mjtether.physics import water as wm
+from mjtether.physics.rigidbody import RigidBodyHydro, add_body_hydro
+from mjtether.simulation import Simulation, SimulationDiverged
+
+from . import statics
+from .config import Network
+
+MAX_TIMESTEP = 0.005
+"""Longest step taken (s): at 10 ms the three lines of MoorDyn's lines.txt did not settle (tension
+noise of 25 %) though each line's stability limits allow it; at 5 ms they settle as at 2 ms (0.01 %)."""
+
+
+def water_of(net: Network) -> wm.WaterColumn:
+    return wm.WaterColumn(depth=net.depth, density=wm.ConstantDensity(net.rho), gravity=net.gravity)
+
+
+def _quat(rpy_deg) -> list:
+    q = np.zeros(4)
+    mujoco.mju_euler2Quat(q, np.radians(rpy_deg), "xyz")
+    return list(q)
+
+
+def body_frame(net: Network, name: str):
+    """World position (m) and rotation matrix of a body at its pose in the network."""
+    b = net.bodies[name]
+    R = np.zeros(9)
+    mujoco.mju_quat2Mat(R, np.array(_quat(b.rpy_deg)))
+    return np.array(b.position, float), R.reshape(3, 3)
+
+
+def start_positions(net: Network) -> dict:
+    """World position (m) of every point where the network starts, before the statics."""
+    out = {}
+    for name, p in net.points.items():
+        if p.kind == "body":
+            x, R = body_frame(net, p.body)
+            out[name] = x + R @ np.array(p.position)
+        else:
+            out[name] = np.array(p.position, float)
+    return out
+
+
+def timestep_for(net: Network, states: dict, water: wm.WaterColumn) -> float:
+    """The largest stable step (s) of every line at its steady tension and of the seabed contact."""
+    dts = [MAX_TIMESTEP]
+    for ln in net.lines:
+        lt = net.line_types[ln.type]
+        tspec = lt.tether(ln.length, ln.segments)
+        st = states[ln.name]
+        tension = max(np.linalg.norm(st.force_a), np.linalg.norm(st.force_b))
+        dts.append(stability.max_timestep(tspec, water, relative_speed=0.0, tension=tension))
+        if net.seabed_stiffness > 0:
+            per_kg = lt.diameter / (tspec.mu + lt.ca_normal * net.rho * tspec.area)
+            k, b = net.seabed_stiffness * per_kg, max(net.seabed_damping * per_kg, 1e-9)
+            dts.append(0.9 * min(builder.CONTACT_B_DT / b, math.sqrt(builder.CONTACT_K_DT2 / k)))
+    dt = min(dts)
+    scale = 10.0 ** (math.floor(math.log10(dt)) - 1)
+    return math.floor(dt / scale) * scale  # (2 figures, rounded down)
+
+
+@dataclass
+class NetworkRun:
+    """A network built and ready to step (``sim``), with its start (``note``: how it was found)."""
+
+    net: Network
+    sim: Simulation
+    tethers: dict
+    point_bodies: dict
+    note: str
+    timestep: float
+
+    def line_forces(self, name: str) -> tuple[np.ndarray, np.ndarray]:
+        """Forces of line ``name`` on its ends A and B (N, world)."""
+        bt = self.sim.tethers[name]
+        d = self.sim.data
+        return bt.end_force(d, "end"), bt.end_force(d, "start")
+
+    def line_nodes(self, name: str) -> np.ndarray:
+        """Node positions (m, world) of line ``name`` from end A to end B."""
+        return self.sim.tethers[name].nodes(self.sim.data)[::-1].copy()
+
+    def point_position(self, name: str) -> np.ndarray:
+        return self.sim.data.xpos[self.point_bodies[name]].copy()
+
+
+def build(net: Network) -> NetworkRun:
+    """The network in MuJoCo at its steady state (``statics.equilibrium``)."""
+    water = water_of(net)
+    positions, note = statics.equilibrium(net, start_positions(net))
+    states = {ln.name: statics.line_ends(net, ln, positions[ln.a], positions[ln.b]) for ln in net.lines}
+    dt = net.timestep if net.timestep is not None else timestep_for(net, states, water)
+    spec = mujoco.MjSpec()
+    spec.option.timestep = dt
+    spec.option.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST
+    spec.option.gravity = [0.0, 0.0, -net.gravity]
+    builder.add_seabed(spec, water, friction=net.seabed_friction)
+    hydro = []
+    for name, b in net.bodies.items():
+        body = spec.worldbody.add_body(name=f"body/{name}", pos=list(b.position), quat=_quat(b.rpy_deg))
+        if b.kind == "free":
+            body.add_freejoint()
+            body.mass, body.ipos, body.inertia = b.mass, list(b.cg), list(b.inertia)
+            hydro.append(add_body_hydro(spec, f"body/{name}", RigidBodyHydro(
+                volume=b.volume, drag_cd=(1.0, 1.0, 1.0), drag_area=b.cd_area,
+                added_mass=tuple(c * net.rho * b.volume for c in b.ca))))
+    end_mass = {}
+    for ln in net.lines:  # the lumped mass of a line's end node (half an element)
+        lt = net.line_types[ln.type]
+        for end in (ln.a, ln.b):
+            end_mass[end] = max(end_mass.get(end, 0.0), 0.5 * lt.mass_per_length * ln.length / ln.segments)
+    for name, p in net.points.items():
+        if p.kind != "free":
+            continue
+        mass = max(p.mass, end_mass.get(name, 0.0), 1e-3)
+        body = spec.worldbody.add_body(name=f"point/{name}", pos=list(positions[name]))
+        body.add_freejoint()
+        r = 0.1
+        body.mass, body.inertia = mass, [0.4 * mass * r * r] * 3
+        body.gravcomp = (mass - p.mass) / mass
+        body.add_site(name=f"point/{name}", size=[r, r, r])
+        hydro.append(add_body_hydro(spec, f"point/{name}", RigidBodyHydro(
+            volume=p.volume, drag_cd=(1.0, 1.0, 1.0), drag_area=(p.cd_area,) * 3,
+            added_mass=(p.ca * net.rho * p.volume,) * 3, height=2 * r)))
+    tms = {}
+    for ln in net.lines:
+        lt = net.line_types[ln.type]
+        ends = [_support(net, positions, pid) for pid in (ln.b, ln.a)]
+        nodes = states[ln.name].nodes[::-1]
+        tms[ln.name] = builder.add_tether(
+            spec, lt.tether(ln.length, ln.segments), ends[0], ends[1], water=water, nodes=nodes, name=ln.name,
+            seabed_friction=net.seabed_friction, seabed_stiffness=net.seabed_stiffness or None,
+            seabed_damping=net.seabed_damping, start_at=positions[ln.b], end_at=positions[ln.a],
+            rest_on_axis=True)
+    sim = Simulation(spec, water, tethers=list(tms.values()), bodies=hydro)
+    point_bodies = {}
+    for name, p in net.points.items():
+        if p.kind == "free":
+            bid = sim.model.body(f"point/{name}").id
+            point_bodies[name] = bid
+            sim.data.xfrc_applied[bid, :3] = p.force
+    sim.forward()
+    return NetworkRun(net, sim, tms, point_bodies, note, dt)
+
+
+def _support(net: Network, positions: dict, pid: str):
+    p = net.points[pid]
+    if p.kind == "free":
+        return builder.SitePoint(f"point/{pid}")
+    if p.kind == "body":
+        return builder.BodyPoint(f"body/{p.body}", p.position)
+    return builder.FixedPoint(positions[pid])
+
+
+SETTLE_RATE = 1.0
+"""Damping (1/s, per unit of each degree of freedom's mass) while a network settles."""
+
+
+def settle(r: NetworkRun, duration: float) -> None:
+    """Let the network fall into place for ``duration`` (s) with every degree of freedom damped at
+    ``SETTLE_RATE`` (MuJoCo's joint damping, integrated implicitly), as MoorDyn's dynamic
+    relaxation does before its run; then take the damping off, stop every motion and start the
+    clock at 0."""
+    m, d = r.sim.model, r.sim.data
+    saved = m.dof_damping.copy()
+    m.dof_damping[:] = saved + SETTLE_RATE / np.maximum(m.dof_invweight0, 1e-12)
+    try:
+        r.sim.step(max(1, round(duration / r.timestep)))
+    finally:
+        m.dof_damping[:] = saved
+    d.qvel[:] = 0.0
+    d.time = 0.0
+    r.note += f"; settled for {duration:g} s with damping"
+    r.sim.forward()
+
+
+def columns(net: Network) -> list[str]:
+    """The time series' columns: per line, the tension (N) and its horizontal and vertical parts
+    at ends A and B; per free point, its position (m)."""
+    cols = ["time_s"]
+    for ln in net.lines:
+        for end in ("A", "B"):
+            cols += [f"line{ln.name}_{end}_tension_N", f"line{ln.name}_{end}_horizontal_N",
+                     f"line{ln.name}_{end}_vertical_N"]
+    for name, p in net.points.items():
+        if p.kind == "free":
+            cols += [f"point{name}_{k}_m" for k in "xyz"]
+    return cols
+
+
+def sample(r: NetworkRun) -> list[float]:
+    row = [r.sim.time]
+    for ln in r.net.lines:
+        for f in r.line_forces(ln.name):
+            row += [float(np.linalg.norm(f)), float(math.hypot(f[0], f[1])), float(abs(f[2]))]
+    for name in r.point_bodies:
+        row += list(r.point_position(name))
+    return row
+
+
+def simulate(net: Network, progress=None) -> tuple[NetworkRun, np.ndarray]:
+    """Run ``net`` for its duration; returns the run (at its final state; ``r.sim.close()`` when
+    done) and the time series (rows of ``columns``, one per output interval). Raises
+    SimulationDiverged."""
+    r = build(net)
+    try:
+        if net.settle > 0:
+            settle(r, net.settle)
+        every = max(1, round(net.output_interval / r.timestep))
+        total = max(1, round(net.duration / r.timestep))
+        rows = [sample(r)]
+        done = 0
+        while done < total:
+            k = min(every, total - done)
+            r.sim.step(k)
+            done += k
+            rows.append(sample(r))
+            if progress is not None:
+                progress(done, total)
+        table = np.array(rows)
+        if not np.all(np.isfinite(table)):
+            raise SimulationDiverged("a line force or point position became non-finite")
+    except BaseException:
+        r.sim.close()
+        raise
+    return r, table
+
+
+def write(r: NetworkRun, rows: np.ndarray, folder, *, source=None, wall_time: float = 0.0) -> None:
+    """The results of a run into ``folder`` (an empty staging folder): ``timeseries.csv``,
+    ``lines.npz`` (each line's final nodes, A to B, m) and ``summary.json``."""
+    from pathlib import Path
+    folder = Path(folder)
+    net = r.net
+    cols = columns(net)
+    with open(folder / "timeseries.csv", "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(cols)
+        for row in rows:
+            w.writerow([f"{v:.9g}" for v in row])
+    np.savez_compressed(folder / "lines.npz", **{f"line{ln.name}": r.line_nodes(ln.name) for ln in net.lines})
+    final = dict(zip(cols, rows[-1]))
+    summary = {
+        "source": None if source is None else str(source),
+        "kind": "network",
+        "simulated_s": float(rows[-1, 0]),
+        "timestep_s": r.timestep,
+        "wall_time_s": round(wall_time, 3),
+        "start": r.note,
+        "notes": list(net.notes),
+        "lines": {ln.name: {"type": ln.type, "A": ln.a, "B": ln.b, "length_m": ln.length, "segments": ln.segments,
+                            "final_A_tension_N": final[f"line{ln.name}_A_tension_N"],
+                            "final_B_tension_N": final[f"line{ln.name}_B_tension_N"],
+                            "peak_tension_N": float(rows[:, [cols.index(f"line{ln.name}_{e}_tension_N")
+                                                             for e in "AB"]].max())}
+                  for ln in net.lines},
+    }
+    (folder / "summary.json").write_text(json.dumps(summary, indent=2))
+
+
+def run_to(net: Network, out, *, overwrite: bool = False, source=None, progress=None) -> tuple[NetworkRun, np.ndarray]:
+    """Simulate ``net`` and write its results folder ``out`` whole or not at all; returns the run
+    (its simulation closed) and the time series."""
+    from mjtether.io.outdir import Staging, check_target
+    target = check_target(out, overwrite=overwrite, protect=[source] if source else ())
+    t0 = time.perf_counter()
+    r, rows = simulate(net, progress=progress)
+    try:
+        with Staging(target, overwrite=overwrite) as stage:
+            write(r, rows, stage.path, source=source, wall_time=time.perf_counter() - t0)
+            stage.commit()
+    finally:
+        r.sim.close()
+    return r, rows

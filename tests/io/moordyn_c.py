@@ -1,0 +1,77 @@
+"""Running a MoorDyn input file in MoorDyn-C (the ``moordyn`` package from PyPI, 2.7.x): the
+reference the MoorDyn tests compare mjtether against. Nothing here comes from mjtether."""
+
+from __future__ import annotations
+
+import os
+from contextlib import contextmanager
+from pathlib import Path
+
+import numpy as np
+
+moordyn = __import__("pytest").importorskip("moordyn")
+
+
+@contextmanager
+def _cwd(folder):
+    old = os.getcwd()
+    os.chdir(folder)
+    try:
+        yield
+    finally:
+        os.chdir(old)
+
+
+def end_loads(path, duration: float, window: float, cwd=None) -> dict:
+    """Run ``path`` in MoorDyn-C (its own initial-condition solver, then ``duration`` s at its
+    ``dtM``) and return {line number: (mean force on the support at end A, at end B, final
+    nodes A to B)} with the forces (N, world) averaged over the last ``window`` s: the end
+    segment's pull (``GetLineNodeTen`` of an end node points along the line from A to B), the end
+    node's weight with buoyancy and its seabed reaction, i.e. what the line pulls its support with
+    (at a coupled point this is MoorDyn's own ``GetPointForce``, to 0.1 %)."""
+    path = Path(path).resolve()
+    with _cwd(cwd or path.parent):
+        s = moordyn.Create(str(path))
+        try:
+            x = []
+            for i in range(moordyn.GetNumberBodies(s)):
+                b = moordyn.GetBody(s, i + 1)
+                if moordyn.GetBodyType(b) == moordyn.BODY_TYPE_COUPLED:
+                    x += list(moordyn.GetBodyState(b)[0])
+            for i in range(moordyn.GetNumberPoints(s)):
+                p = moordyn.GetPoint(s, i + 1)
+                if moordyn.GetPointType(p) == moordyn.POINT_TYPE_COUPLED:
+                    x += list(moordyn.GetPointPos(p))
+            x = np.array(x, float)
+            v = np.zeros_like(x)
+            moordyn.Init(s, x, v)
+            lines = [moordyn.GetLine(s, i + 1) for i in range(moordyn.GetNumberLines(s))]
+
+            def loads():
+                out = []
+                for ln in lines:
+                    n = moordyn.GetLineN(ln)
+                    f = []
+                    for i, sign in ((0, 1.0), (n, -1.0)):  # (the end tensions point from A to B)
+                        f.append(sign * np.array(moordyn.GetLineNodeTen(ln, i))
+                                 + np.array(moordyn.GetLineNodeWeight(ln, i))
+                                 + np.array(moordyn.GetLineNodeSeabedForce(ln, i)))
+                    out.append(f)
+                return out
+
+            t, dt, acc, k = 0.0, 0.05, None, 0
+            while t < duration - 1e-9:
+                moordyn.Step(s, x, v, t, dt)
+                t += dt
+                if t >= duration - window - 1e-9:
+                    now = loads()
+                    acc = now if acc is None else [[a + b for a, b in zip(x1, x2)] for x1, x2 in zip(acc, now)]
+                    k += 1
+            result = {}
+            for j, ln in enumerate(lines, 1):
+                n = moordyn.GetLineN(ln)
+                nodes = np.array([moordyn.GetLineNodePos(ln, i) for i in range(n + 1)])
+                result[j] = (acc[j - 1][0] / k, acc[j - 1][1] / k, nodes)
+            return result
+        finally:
+            moordyn.Close(s)
