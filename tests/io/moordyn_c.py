@@ -4,6 +4,8 @@ reference the MoorDyn tests compare mjtether against. Nothing here comes from mj
 from __future__ import annotations
 
 import os
+import shutil
+import tempfile
 from contextlib import contextmanager
 from pathlib import Path
 
@@ -22,15 +24,25 @@ def _cwd(folder):
         os.chdir(old)
 
 
-def end_loads(path, duration: float, window: float, cwd=None) -> dict:
+def end_loads(path, duration: float, window: float) -> dict:
     """Run ``path`` in MoorDyn-C (its own initial-condition solver, then ``duration`` s at its
     ``dtM``) and return {line number: (mean force on the support at end A, at end B, final
     nodes A to B)} with the forces (N, world) averaged over the last ``window`` s: the end
     segment's pull (``GetLineNodeTen`` of an end node points along the line from A to B), the end
     node's weight with buoyancy and its seabed reaction, i.e. what the line pulls its support with
     (at a coupled point this is MoorDyn's own ``GetPointForce``, to 0.1 %)."""
-    path = Path(path).resolve()
-    with _cwd(cwd or path.parent):
+    src = Path(path).resolve()
+    scratch = Path(tempfile.mkdtemp(prefix="moordyn-c-"))  # (MoorDyn-C writes its .log and .out beside the file)
+    shutil.copytree(src.parent, scratch / "run")
+    path = scratch / "run" / src.name
+    try:
+        return _end_loads(path, duration, window)
+    finally:
+        shutil.rmtree(scratch, ignore_errors=True)
+
+
+def _end_loads(path, duration, window):
+    with _cwd(path.parent):
         s = moordyn.Create(str(path))
         try:
             x = []
