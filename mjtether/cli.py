@@ -274,7 +274,7 @@ def _run_network(args, net) -> int:
     bar.close()
     final = dict(zip(run.columns(net), rows[-1]))
     worst = max(net.lines, key=lambda ln: final[f"line{ln.name}_B_tension_N"])
-    print(f"{rows[-1, 0]:.0f} s simulated ({len(net.lines)} lines, step {r.timestep:g} s); largest end-B tension "
+    print(f"{rows[-1, 0]:g} s simulated ({len(net.lines)} lines, step {r.timestep:g} s); largest end-B tension "
           f"{final[f'line{worst.name}_B_tension_N']:.0f} N (line {worst.name}); results in {args.out}/")
     return 0
 

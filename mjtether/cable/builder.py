@@ -327,6 +327,15 @@ cable, solref = (-k, -b)): measured on a 30 mm, 3000 kg/m^3 line lowered onto th
 stable up to k dt^2 = 10 and b dt = 10.5, diverging at 26 and 13; these keep a margin."""
 
 
+def seabed_contact(tether: TetherSpec, rho: float, stiffness: float, damping: float) -> tuple[float, float, float]:
+    """MoorDyn's seabed contact, kBot ``stiffness`` (Pa/m) and cBot ``damping`` (Pa s/m) on the
+    cable's projected area d l, per kg of an element with its added mass in water of density
+    ``rho``: (k 1/s^2, b 1/s, the longest step MuJoCo's contact takes with them, s)."""
+    per_kg = tether.diameter / (tether.mu + tether.ca_normal * rho * tether.area)  # (d l) / (m l)
+    k, b = stiffness * per_kg, max(damping * per_kg, 1e-9)
+    return k, b, min(CONTACT_B_DT / b, math.sqrt(CONTACT_K_DT2 / k))
+
+
 def drum_capacity(tether: TetherSpec, max_length: float | None) -> int:
     """Elements to allocate so that the drum can pay out to ``max_length`` (m) with every
     element but the drum element at the nominal length and the drum element at most 1.5 of it."""
@@ -511,9 +520,7 @@ def add_tether(
         _checks.positive("seabed_stiffness", seabed_stiffness, "Pa/m")
         _checks.non_negative("seabed_damping", seabed_damping, "Pa s/m")
         rho = 1025.0 if water is None else float(water.rho([water.seabed_z])[0])
-        per_kg = tether.diameter / (tether.mu + tether.ca_normal * rho * tether.area)  # (d l) / (m l)
-        k, b = seabed_stiffness * per_kg, max(seabed_damping * per_kg, 1e-9)  # 1/s^2, 1/s
-        dt_max = min(CONTACT_B_DT / b, math.sqrt(CONTACT_K_DT2 / k))
+        k, b, dt_max = seabed_contact(tether, rho, seabed_stiffness, seabed_damping)
         scale = 10.0 ** (math.floor(math.log10(dt_max)) - 2)
         dt_max = math.floor(dt_max / scale) * scale  # (3 figures, rounded down: the step shown works)
         if dt > dt_max * (1 + 1e-12):

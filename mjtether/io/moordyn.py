@@ -489,7 +489,14 @@ def _network(p: Parsed, overrides=()):
         if not key.strip().startswith("simulation.") or field not in sim:
             raise ScenarioError(f"--set {key.strip()}: a MoorDyn network takes simulation.duration, "
                                 "simulation.timestep, simulation.output_interval and simulation.settle", key.strip())
-        sim[field] = _number(p.name, 0, val, key.strip()) if val.strip().lower() != "none" else None
+        if field == "timestep" and val.strip().lower() == "none":
+            sim[field] = None  # (the largest stable step)
+            continue
+        try:
+            sim[field] = float(val)
+        except ValueError:
+            raise ScenarioError(f"--set {key.strip()}: give {key.strip()}=SECONDS (a number), got {val!r}",
+                                key.strip()) from None
     try:
         return Network(p.name, p.line_types, p.points, tuple(p.lines), bodies=p.bodies, depth=p.depth, rho=p.rho,
                        gravity=p.gravity, seabed_stiffness=p.kbot, seabed_damping=p.cbot,

@@ -21,6 +21,7 @@ import json
 import math
 import time
 from dataclasses import dataclass
+from pathlib import Path
 
 import mujoco
 import numpy as np
@@ -78,9 +79,7 @@ def timestep_for(net: Network, states: dict, water: wm.WaterColumn) -> float:
         tension = max(np.linalg.norm(st.force_a), np.linalg.norm(st.force_b))
         dts.append(stability.max_timestep(tspec, water, relative_speed=0.0, tension=tension))
         if net.seabed_stiffness > 0:
-            per_kg = lt.diameter / (tspec.mu + lt.ca_normal * net.rho * tspec.area)
-            k, b = net.seabed_stiffness * per_kg, max(net.seabed_damping * per_kg, 1e-9)
-            dts.append(0.9 * min(builder.CONTACT_B_DT / b, math.sqrt(builder.CONTACT_K_DT2 / k)))
+            dts.append(0.9 * builder.seabed_contact(tspec, net.rho, net.seabed_stiffness, net.seabed_damping)[2])
     dt = min(dts)
     scale = 10.0 ** (math.floor(math.log10(dt)) - 1)
     return math.floor(dt / scale) * scale  # (2 figures, rounded down)
@@ -92,7 +91,6 @@ class NetworkRun:
 
     net: Network
     sim: Simulation
-    tethers: dict
     point_bodies: dict
     note: str
     timestep: float
@@ -167,7 +165,7 @@ def build(net: Network) -> NetworkRun:
             point_bodies[name] = bid
             sim.data.xfrc_applied[bid, :3] = p.force
     sim.forward()
-    return NetworkRun(net, sim, tms, point_bodies, note, dt)
+    return NetworkRun(net, sim, point_bodies, note, dt)
 
 
 def _support(net: Network, positions: dict, pid: str):
@@ -256,7 +254,6 @@ def simulate(net: Network, progress=None) -> tuple[NetworkRun, np.ndarray]:
 def write(r: NetworkRun, rows: np.ndarray, folder, *, source=None, wall_time: float = 0.0) -> None:
     """The results of a run into ``folder`` (an empty staging folder): ``timeseries.csv``,
     ``lines.npz`` (each line's final nodes, A to B, m) and ``summary.json``."""
-    from pathlib import Path
     folder = Path(folder)
     net = r.net
     cols = columns(net)

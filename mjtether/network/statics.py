@@ -70,9 +70,9 @@ def point_load(net: Network, p) -> np.ndarray:
 
 
 def equilibrium(net: Network, positions: dict) -> tuple[dict, str]:
-    """The free points' positions where the forces on them balance, from ``positions`` ({point:
-    world position, m} for every point not on a body... and the body points' world positions);
-    returns (positions, a note: how it was found, or why not)."""
+    """The free points' positions where the forces on them balance, starting from ``positions``
+    ({point: world position, m} for every point, body points included); returns (positions, a
+    note: how they were found, or why not)."""
     free = [name for name, p in net.points.items() if p.kind == "free"]
     if not free:
         return dict(positions), "every point held: each line's elastic catenary"
