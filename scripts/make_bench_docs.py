@@ -61,6 +61,7 @@ RUNS: dict[str, tuple[list[str], str]] = {
     "bench_rollout": (["scripts/bench_rollout.py", "--json"], ""),
     "bench_kernel_choice": (["scripts/bench_kernel_choice.py", "--json"], ""),
     "bench_constructions": (["scripts/bench_constructions.py", "--json"], ""),
+    "bench_moordyn": (["scripts/bench_moordyn.py", "--json"], ""),
 }
 
 MARKER = re.compile(r"<!--bench:(?P<ref>[^>]*?)-->(?P<text>.*?)<!--/bench-->")

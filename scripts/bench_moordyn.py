@@ -1,0 +1,142 @@
+"""Benchmark: mjtether against MoorDyn-C on MoorDyn's own files, wall time per simulated second.
+
+Cases (``tests/data/moordyn``, MoorDyn v2.7.1): MoorDyn's ``WD0200_Chain.txt`` (one 700 m chain
+from a vessel to an anchor in 200 m of water) with its NumSegs set to 20, 40 and 100, and
+``lines.txt`` (three lines of 20 segments, the OC3-Hywind spread mooring). Each is run for
+``DURATION`` s by both, in one process, one after the other:
+
+* MoorDyn-C (the ``moordyn`` package): ``Create``, ``Init`` (its initial-condition solver) and
+  its steps at the file's dtM (or the step its CFL gives);
+* mjtether: what ``mjtether run FILE`` runs (a scenario for one line, a network for several),
+  from its steady state, at its own stable step, without writing results.
+
+Reported per case: seconds of wall time per simulated second for each, the stepping alone for
+each, and their ratio (mjtether over MoorDyn; below 1: mjtether faster). The goal is a ratio
+below 1 on every case.
+
+    python scripts/bench_moordyn.py [--json]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import re
+import shutil
+import tempfile
+import time
+import warnings
+from pathlib import Path
+
+import numpy as np
+
+DATA = Path(__file__).resolve().parents[1] / "tests" / "data" / "moordyn" / "tests" / "Mooring"
+DURATION = 20.0
+CASES = {"single_N20": ("WD0200_Chain.txt", 20), "single_N40": ("WD0200_Chain.txt", 40),
+         "single_N100": ("WD0200_Chain.txt", 100), "network_3_lines": ("lines.txt", None)}
+
+
+def _case_file(folder: Path, name: str, segments: int | None) -> Path:
+    """The case's file in ``folder`` (MoorDyn writes its outputs beside it), NumSegs replaced."""
+    text = (DATA / name).read_text()
+    if segments is not None:  # the LINES row: ID LineType AttachA AttachB UnstrLen NumSegs ...
+        head, sep, rest = text.partition(re.search(r"^-+ *LINES *-+.*$", text, flags=re.M).group(0))
+        rest = re.sub(r"^(1\s+\S+\s+\S+\s+\S+\s+\S+\s+)\d+", rf"\g<1>{segments}", rest, count=1, flags=re.M)
+        text = head + sep + rest
+        text = re.sub(r"^.*fileIC.*$\n", "", text, flags=re.M)  # (its saved start is for 170 segments)
+    elif (DATA / f"{name}.ic").exists():  # (the file's saved start for MoorDyn's IC solver)
+        shutil.copy(DATA / f"{name}.ic", folder)
+    path = folder / name
+    path.write_text(text)
+    return path
+
+
+def moordyn_c(path: Path) -> tuple[float, float]:
+    """(wall s of the whole run, wall s of its steps) per simulated second."""
+    import moordyn
+    old = os.getcwd()
+    os.chdir(path.parent)
+    try:
+        t0 = time.perf_counter()
+        s = moordyn.Create(str(path))
+        x = []
+        for i in range(moordyn.GetNumberPoints(s)):
+            p = moordyn.GetPoint(s, i + 1)
+            if moordyn.GetPointType(p) == moordyn.POINT_TYPE_COUPLED:
+                x += list(moordyn.GetPointPos(p))
+        x = np.array(x, float)
+        v = np.zeros_like(x)
+        moordyn.Init(s, x, v)
+        t1 = time.perf_counter()
+        t, dt = 0.0, 0.1
+        while t < DURATION - 1e-9:
+            moordyn.Step(s, x, v, t, dt)
+            t += dt
+        t2 = time.perf_counter()
+        moordyn.Close(s)
+    finally:
+        os.chdir(old)
+    return (t2 - t0) / DURATION, (t2 - t1) / DURATION
+
+
+def mjtether(path: Path) -> tuple[float, float]:
+    """(wall s of the whole run, wall s of its steps) per simulated second."""
+    from mjtether.io import moordyn as md
+    from mjtether.network import Network
+    from mjtether.network import run as nrun
+    from mjtether.scenario.runner import run
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", md.MoorDynWarning)
+        t0 = time.perf_counter()
+        sc = md.read(path, overrides=[f"simulation.duration={DURATION}"])
+    if isinstance(sc, Network):
+        r = nrun.build(sc)
+        if sc.settle > 0:
+            nrun.settle(r, sc.settle)
+        t1 = time.perf_counter()
+        r.sim.step(round(DURATION / r.timestep))
+        t2 = time.perf_counter()
+        r.sim.close()
+        return (t2 - t0) / DURATION, (t2 - t1) / DURATION
+    _, _, info = run(sc, keep_nodes=False)
+    t2 = time.perf_counter()
+    return (t2 - t0) / DURATION, info["wall_time_s"] / DURATION
+
+
+def measure() -> dict:
+    out = {"duration_s": DURATION}
+    with tempfile.TemporaryDirectory(prefix="bench-moordyn-") as tmp:
+        mjtether(_case_file(Path(tmp), "lines.txt", None))  # (first use: kernels and imports)
+        for key, (name, n) in CASES.items():
+            folder = Path(tmp) / key
+            folder.mkdir()
+            path = _case_file(folder, name, n)
+            md_total, md_steps = moordyn_c(path)
+            mj_total, mj_steps = mjtether(path)
+            shutil.rmtree(folder)
+            out[f"{key}_moordyn_s_per_s"] = round(md_total, 4)
+            out[f"{key}_mjtether_s_per_s"] = round(mj_total, 4)
+            out[f"{key}_moordyn_steps_s_per_s"] = round(md_steps, 4)
+            out[f"{key}_mjtether_steps_s_per_s"] = round(mj_steps, 4)
+            out[f"{key}_ratio"] = round(mj_total / md_total, 3)
+    return out
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--json", action="store_true", help="print one JSON object")
+    args = ap.parse_args(argv)
+    out = measure()
+    if args.json:
+        print(json.dumps(out))
+        return
+    for key in CASES:
+        print(f"{key}: mjtether {out[f'{key}_mjtether_s_per_s']:.3f} s/s (steps {out[f'{key}_mjtether_steps_s_per_s']:.3f}), "
+              f"MoorDyn-C {out[f'{key}_moordyn_s_per_s']:.3f} s/s (steps {out[f'{key}_moordyn_steps_s_per_s']:.3f}); "
+              f"ratio {out[f'{key}_ratio']:.2f}")
+
+
+if __name__ == "__main__":
+    main()
