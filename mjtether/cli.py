@@ -306,43 +306,55 @@ def _render(args) -> int:
 
 
 def _convert(args) -> int:
-    """``mjtether convert SOURCE TARGET``: MoorDyn file <-> scenario TOML (see mjtether.io.moordyn);
-    the target is written whole or not at all, and never over an existing file unless
-    ``--overwrite``."""
+    """``mjtether convert SOURCE TARGET``: MoorDyn file <-> scenario TOML (see mjtether.io.moordyn),
+    or a network of lines (TOML or MoorDyn) -> a MoorDyn file, with its current profile beside it
+    (``moordyn.CURRENT_FILE``) where it has a current; every file is written whole or not at all,
+    and never over an existing file unless ``--overwrite``."""
     import os
     import tempfile
 
     from mjtether.io import moordyn
+    from mjtether.network import Network
 
     from .scenario import ScenarioError, to_toml
 
-    sc = _load(args.source, args.set)
+    sc = _load(args.source, args.set, network=True)
     if sc is None:
         return 2
     target = Path(args.target)
-    source = Path(args.source).resolve()
-    if target.is_dir() or (target.exists() and not args.overwrite) or target.resolve() == source:
-        why = ("is a folder" if target.is_dir() else "is the source file" if target.resolve() == source
-               else "exists; pass --overwrite to replace it")
-        print(f"mjtether convert: {args.target} {why}", file=sys.stderr)
-        return 2
     try:
-        text = to_toml(sc) if target.suffix.lower() == ".toml" else moordyn.write(sc)
+        if isinstance(sc, Network):
+            if target.suffix.lower() == ".toml":
+                raise ScenarioError("a network of lines is written as a MoorDyn file only (give a target that "
+                                    "does not end in .toml)")
+            files = {target: moordyn.write_network(sc)}
+            if sc.current_depths:
+                files[target.parent / moordyn.CURRENT_FILE] = moordyn.current_profile(sc)
+        else:
+            files = {target: to_toml(sc) if target.suffix.lower() == ".toml" else moordyn.write(sc)}
     except ScenarioError as exc:
         print(f"mjtether convert: {exc}", file=sys.stderr)
         return 2
-    tmp = None
-    try:
-        fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", dir=target.resolve().parent)
-        with os.fdopen(fd, "w") as fh:
-            fh.write(text)
-        os.replace(tmp, target)
-    except OSError as exc:
-        if tmp is not None:
-            Path(tmp).unlink(missing_ok=True)
-        print(f"mjtether convert: cannot write {args.target}: {exc.strerror or exc}", file=sys.stderr)
-        return 1
-    print(f"wrote {args.target}")
+    source = Path(args.source).resolve()
+    for path in files:
+        if path.is_dir() or (path.exists() and not args.overwrite) or path.resolve() == source:
+            why = ("is a folder" if path.is_dir() else "is the source file" if path.resolve() == source
+                   else "exists; pass --overwrite to replace it")
+            print(f"mjtether convert: {path} {why}", file=sys.stderr)
+            return 2
+    for path, text in files.items():
+        tmp = None
+        try:
+            fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", dir=path.resolve().parent)
+            with os.fdopen(fd, "w") as fh:
+                fh.write(text)
+            os.replace(tmp, path)
+        except OSError as exc:
+            if tmp is not None:
+                Path(tmp).unlink(missing_ok=True)
+            print(f"mjtether convert: cannot write {path}: {exc.strerror or exc}", file=sys.stderr)
+            return 1
+    print("wrote " + " and ".join(str(p) for p in files))
     return 0
 
 

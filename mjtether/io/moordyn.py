@@ -44,7 +44,7 @@ import warnings
 from dataclasses import dataclass
 from pathlib import Path
 
-from mjtether.scenario import Scenario, ScenarioError, load_scenario
+from mjtether.scenario import ScenarioError, load_scenario
 
 DEFAULT_DURATION = 60.0
 """Simulated time (s) of a scenario read from a MoorDyn file, which does not say."""
@@ -168,6 +168,7 @@ class Parsed:
     friction: float
     tmax_ic: float
     notes: list
+    current: tuple = ((), (), ())  # depths (m, below the surface), speeds (m/s), headings (deg)
 
 
 def parse(text: str, name: str = "<moordyn>") -> Parsed:
@@ -207,11 +208,16 @@ def parse(text: str, name: str = "<moordyn>") -> Parsed:
         no, val = options[key]
         return _number(name, no, val, f"option {key}")
 
-    for key in ("wavekin", "currents"):
-        if key in options and opt(key, 0) != 0:
-            what = "waves" if key == "wavekin" else "currents from MoorDyn's current files"
-            raise ScenarioError(f"{name}: line {options[key][0]}: {key} = {options[key][1]}: {what} are not "
-                                "supported by mjtether")
+    if "wavekin" in options and opt("wavekin", 0) != 0:
+        raise ScenarioError(f"{name}: line {options['wavekin'][0]}: WaveKin = {options['wavekin'][1]}: waves are not "
+                            "supported by mjtether")
+    current = ((), (), ())
+    mode = opt("currents", 0)
+    if mode in (1, 3):  # a steady profile, on a grid or at the nodes: both the same steady current here
+        current = _current_profile(name, options["currents"][0])
+    elif mode != 0:
+        raise ScenarioError(f"{name}: line {options['currents'][0]}: Currents = {options['currents'][1]}: dynamic or "
+                            "4-D currents are not supported by mjtether (a steady profile, Currents = 1, is)")
     if "seafloorfile" in options:
         raise ScenarioError(f"{name}: line {options['seafloorfile'][0]}: SeafloorFile: a 3-D seafloor is not "
                             "supported by mjtether yet")
@@ -340,7 +346,36 @@ def parse(text: str, name: str = "<moordyn>") -> Parsed:
     if depth <= 0:
         raise ScenarioError(f"{name}: line {sec.get('OPTIONS', (1,))[0]}: WtrDpth (the water depth, m) is needed")
     return Parsed(name, types, points, bodies, lines, rows, depth, rho, g, opt("kbot", 3.0e6), opt("cbot", 3.0e5),
-                  opt("frictioncoefficient", 0.0), opt("tmaxic", 120.0), notes)
+                  opt("frictioncoefficient", 0.0), opt("tmaxic", 120.0), notes, current)
+
+
+CURRENT_FILE = "current_profile.txt"
+"""MoorDyn's steady current profile, beside the input file: three header lines, then rows of
+z (m, up), ux, uy, uz (m/s)."""
+
+
+def _current_profile(name: str, no: int) -> tuple:
+    """(depths m, speeds m/s, headings deg) of the ``CURRENT_FILE`` beside the file ``name``."""
+    path = Path(name).parent / CURRENT_FILE
+    try:
+        rows = path.read_text().splitlines()[3:]
+    except OSError as exc:
+        raise ScenarioError(f"{name}: line {no}: Currents = 1 reads {path}: {exc.strerror or exc}") from None
+    table = []
+    for k, row in enumerate(rows, 4):
+        f = row.split()
+        if not f:
+            continue
+        v = [_number(str(path), k, x, "z/ux/uy/uz") for x in f[:4]] + [0.0] * (4 - len(f[:4]))
+        if v[3] != 0.0:
+            raise ScenarioError(f"{path}: line {k}: a vertical current (uz = {v[3]:g} m/s) is not supported by "
+                                "mjtether")
+        if v[0] <= 0.0:
+            table.append((-v[0], math.hypot(v[1], v[2]), math.degrees(math.atan2(v[2], v[1]))))
+    if not table:
+        raise ScenarioError(f"{path}: line 4: no row of the current profile is in the water (z <= 0)")
+    table.sort()
+    return tuple(zip(*table))
 
 
 def _body(name, no, f, Body):
@@ -411,6 +446,9 @@ def _tree(p: Parsed) -> dict:
         "robot": {"type": "anchor", "position": list(bottom.position)},
     }
     sc["tether"]["seabed_friction"] = p.friction
+    if p.current[0]:
+        sc["water"]["current"] = {"type": "table", "depths": list(p.current[0]), "speeds": list(p.current[1]),
+                                  "headings_deg": list(p.current[2])}
     return sc
 
 
@@ -476,169 +514,48 @@ def _tether(name, p: Parsed, chain) -> dict:
 
 
 def _network(p: Parsed, overrides=()):
-    """The ``Network`` of a parsed file; ``overrides``: ``simulation.duration``, ``.timestep``
-    and ``.output_interval``."""
-    from mjtether.network import Network
-    # MoorDyn relaxes the system for up to TmaxIC before its run: mjtether settles as long (at most
-    # MAX_SETTLE), damped, from its steady state
-    sim = {"duration": DEFAULT_DURATION, "timestep": None, "output_interval": 0.1,
-           "settle": min(p.tmax_ic, MAX_SETTLE)}
-    for item in overrides:
-        key, _, val = str(item).partition("=")
-        field = key.strip().removeprefix("simulation.")
-        if not key.strip().startswith("simulation.") or field not in sim:
-            raise ScenarioError(f"--set {key.strip()}: a MoorDyn network takes simulation.duration, "
-                                "simulation.timestep, simulation.output_interval and simulation.settle", key.strip())
-        if field == "timestep" and val.strip().lower() == "none":
-            sim[field] = None  # (the largest stable step)
-            continue
-        try:
-            sim[field] = float(val)
-        except ValueError:
-            raise ScenarioError(f"--set {key.strip()}: give {key.strip()}=SECONDS (a number), got {val!r}",
-                                key.strip()) from None
+    """The ``Network`` of a parsed file, ``overrides`` applied (``network.config.with_overrides``).
+    MoorDyn relaxes the system for up to TmaxIC before its run: mjtether settles as long (at most
+    ``MAX_SETTLE``), damped, from its steady state."""
+    from mjtether.network import Network, with_overrides
     try:
-        return Network(p.name, p.line_types, p.points, tuple(p.lines), bodies=p.bodies, depth=p.depth, rho=p.rho,
-                       gravity=p.gravity, seabed_stiffness=p.kbot, seabed_damping=p.cbot,
-                       seabed_friction=p.friction, notes=tuple(p.notes), **sim)
-    except ValueError as exc:
-        raise ScenarioError(f"{p.name}: {exc}") from None
+        net = Network(p.name, p.line_types, p.points, tuple(p.lines), bodies=p.bodies, depth=p.depth, rho=p.rho,
+                      gravity=p.gravity, seabed_stiffness=p.kbot, seabed_damping=p.cbot, seabed_friction=p.friction,
+                      current_depths=p.current[0], current_speeds=p.current[1], current_headings_deg=p.current[2],
+                      duration=DEFAULT_DURATION, settle=min(p.tmax_ic, MAX_SETTLE), notes=tuple(p.notes))
+        return with_overrides(net, overrides)
+    except ValueError as exc:  # (NetworkError, and the range checks' ValueError)
+        raise _scenario_error(exc) from None
 
 
-def write(sc: Scenario) -> str:
-    """A MoorDyn v2 input file of a scenario (one line from the anchored robot end to a coupled
-    fairlead); ScenarioError naming the key for what MoorDyn cannot express."""
-    t, w, r, s = sc.tether, sc.water, sc.robot, sc.ship
-
-    def refuse(key, why):
-        raise ScenarioError(f"{key}: {why}: not expressible in a MoorDyn file", key)
-
-    if r.type != "anchor":
-        refuse("robot.type", f"{r.type!r} (only an anchored end is)")
-    if t.EA == 0.0 and not t.sections:
-        refuse("tether.EA", "0 (inextensible; MoorDyn needs a stiffness)")
-    if w.density.type != "constant":
-        refuse("water.density.type", repr(w.density.type))
-    c = w.current
-    if c.type != "constant" or c.speed != 0.0:
-        refuse("water.current", "a current (MoorDyn takes currents from grid files)")
-    if w.seabed_slope_deg != 0.0:
-        refuse("water.seabed_slope_deg", "a sloped seabed (MoorDyn takes bathymetry from a file)")
-    if s.mode != "fixed" or s.heave_amplitude != 0.0:
-        refuse("ship.mode", "a moving ship (MoorDyn's coupled points move with the coupled program)")
-    if sc.winch.mode != "fixed":
-        refuse("winch.mode", repr(sc.winch.mode))
-    if t.is_makeup:
-        return _write_makeup(sc, refuse)
-    mass = t.mass_per_length if t.mass_per_length > 0 else t.density * math.pi * t.diameter ** 2 / 4
-    x0, y0 = s.position
-    lines = [
-        "--------------------- MoorDyn Input File ------------------------------------",
-        "written by mjtether from a scenario",
-        "---------------------- LINE TYPES ---------------------------------------------",
-        "TypeName   Diam    Mass/m    EA    BA/-zeta    EI    Cd    Ca    CdAx    CaAx",
-        "(name)     (m)     (kg/m)    (N)   (N-s/-)    (N-m^2) (-)   (-)   (-)     (-)",
-        f"tether {t.diameter!r} {mass!r} {t.EA!r} -1 {t.EI!r} {t.cd_normal!r} {t.ca_normal!r} {t.cd_tangential!r} "
-        f"{t.ca_normal if t.added_mass == 'isotropic' else 0.0!r}",
-        "---------------------- POINTS -------------------------------------------------",
-        "ID   Attachment  X    Y    Z    Mass   Volume  CdA   Ca",
-        "(#)  (word)      (m)  (m)  (m)  (kg)   (m^3)   (m^2) (-)",
-        f"1 Fixed {r.position[0]!r} {r.position[1]!r} {r.position[2]!r} 0 0 0 0",
-        f"2 Coupled {x0!r} {y0!r} {s.fairlead_z!r} 0 0 0 0",
-        "---------------------- LINES --------------------------------------------------",
-        "ID  LineType  AttachA  AttachB  UnstrLen  NumSegs  LineOutputs",
-        "(#) (name)    (#)      (#)      (m)       (-)      (-)",
-        f"1 tether 1 2 {t.length!r} {t.segments} -",
-        "---------------------- OPTIONS ------------------------------------------------",
-        f"{sc.simulation.timestep!r} dtM",
-        f"{w.gravity!r} g",
-        f"{w.density.rho!r} rho",
-        f"{w.depth!r} WtrDpth",
-        f"{t.seabed_friction!r} FrictionCoefficient",
-    ]
-    if w.seabed_stiffness > 0:
-        lines += [f"{w.seabed_stiffness!r} kBot", f"{w.seabed_damping!r} cBot"]
-    return "\n".join(lines + _tail(1)) + "\n"
+def _scenario_error(exc) -> ScenarioError:
+    """A network's error as the CLI reports a scenario's (the key of a ``--set`` it names)."""
+    msg = str(exc)
+    return ScenarioError(msg, msg.partition(":")[0].removeprefix("--set ") if msg.startswith("--set ") else "")
 
 
-def _tail(n_lines: int) -> list[str]:
-    return ["---------------------- OUTPUTS ------------------------------------------------",
-            "FAIRTEN1", f"ANCHTEN{n_lines}",
-            "------------------------- need this line --------------------------------------"]
+def load_any(path, overrides=()):
+    """A scenario from a TOML scenario file or a MoorDyn input file (told apart by content); a
+    ``mjtether.network.Network`` from a MoorDyn file that holds one or a TOML file with
+    ``[[lines]]`` (``mjtether.network.from_dict``)."""
+    import tomllib
 
-
-def _write_makeup(sc: Scenario, refuse) -> str:
-    """``write`` for a line make-up: a line per section (cut also where a point load sits, which
-    must be on a node), joined at free points that carry the point loads; floats refused."""
-    t, w, r, s = sc.tether, sc.water, sc.robot, sc.ship
-    if t.floats:
-        refuse("tether.floats", "float sections (MoorDyn has no distributed buoyancy on a line)")
-    from mjtether.scenario.runner import makeup_from
-    mk = makeup_from(sc)
-    if any(sec.EA is None for sec in mk.sections):
-        refuse("tether.sections", "an inextensible section (EA 0; MoorDyn needs a stiffness)")
-    nodes = mk.node_arc_length
-    cuts = {0.0, mk.length, *(float(b) for b in mk.section_bounds)}
-    for i, p in enumerate(t.point_loads):
-        k = int(abs(nodes - p.arc_length).argmin())
-        if abs(nodes[k] - p.arc_length) > 1e-9 * mk.length:
-            refuse(f"tether.point_loads[{i}].arc_length", f"{p.arc_length:g} m, between nodes (a MoorDyn free point "
-                   "joins two lines at a node; put the load on a node or a section joint)")
-        if 0 < k < len(nodes) - 1:
-            cuts.add(float(nodes[k]))
-    cuts = sorted(cuts)
-    types, rows = {}, []
-    for a, b in zip(cuts[:-1], cuts[1:]):
-        j = min(int(mk.section_bounds.searchsorted(a + 1e-9 * mk.length, side="right")) - 1, len(mk.sections) - 1)
-        sec = mk.sections[j]  # the section this piece is cut from
-        key = (sec.diameter, sec.mass_per_length, sec.EA, sec.EI, sec.cd_normal, sec.ca_normal, sec.cd_tangential)
-        name = types.setdefault(key, f"type{len(types) + 1}")
-        rows.append((name, b - a, int(round((b - a) / sec.segment_length))))
-    caax = lambda ca: ca if t.added_mass == "isotropic" else 0.0  # noqa: E731
-    x0, y0 = s.position
-    lines = [
-        "--------------------- MoorDyn Input File ------------------------------------",
-        "written by mjtether from a scenario (a line make-up)",
-        "---------------------- LINE TYPES ---------------------------------------------",
-        "TypeName   Diam    Mass/m    EA    BA/-zeta    EI    Cd    Ca    CdAx    CaAx",
-        "(name)     (m)     (kg/m)    (N)   (N-s/-)    (N-m^2) (-)   (-)   (-)     (-)",
-        *(f"{name} {d!r} {m!r} {ea!r} -1 {ei!r} {cd!r} {ca!r} {cdax!r} {caax(ca)!r}"
-          for (d, m, ea, ei, cd, ca, cdax), name in types.items()),
-        "---------------------- POINTS -------------------------------------------------",
-        "ID   Attachment  X    Y    Z    Mass   Volume  CdA   Ca",
-        "(#)  (word)      (m)  (m)  (m)  (kg)   (m^3)   (m^2) (-)",
-        f"1 Coupled {x0!r} {y0!r} {s.fairlead_z!r} 0 0 0 0",
-    ]
-    # free points on the straight chord, where MoorDyn's initial-condition solver starts them
-    top, bot = [x0, y0, s.fairlead_z], list(r.position)
-    for i, c in enumerate(cuts[1:-1]):
-        f = c / mk.length
-        at = [p.arc_length == c or abs(p.arc_length - c) <= 1e-9 * mk.length for p in t.point_loads]
-        mass = sum(p.mass for p, a in zip(t.point_loads, at) if a)
-        vol = sum(p.volume for p, a in zip(t.point_loads, at) if a)
-        cda = sum(p.cd_area for p, a in zip(t.point_loads, at) if a)
-        ca = sum(p.ca * p.volume for p, a in zip(t.point_loads, at) if a) / vol if vol > 0 else 0.0
-        xyz = " ".join(repr(top[k] + f * (bot[k] - top[k])) for k in range(3))
-        lines.append(f"{i + 2} Free {xyz} {mass!r} {vol!r} {cda!r} {ca!r}")
-    anchor = len(cuts)
-    lines += [f"{anchor} Fixed {bot[0]!r} {bot[1]!r} {bot[2]!r} 0 0 0 0",
-              "---------------------- LINES --------------------------------------------------",
-              "ID  LineType  AttachA  AttachB  UnstrLen  NumSegs  LineOutputs",
-              "(#) (name)    (#)      (#)      (m)       (-)      (-)"]
-    lines += [f"{i + 1} {name} {i + 1} {i + 2} {length!r} {n} -" for i, (name, length, n) in enumerate(rows)]
-    lines += ["---------------------- OPTIONS ------------------------------------------------",
-              f"{sc.simulation.timestep!r} dtM", f"{w.gravity!r} g", f"{w.density.rho!r} rho", f"{w.depth!r} WtrDpth",
-              f"{t.seabed_friction!r} FrictionCoefficient"]
-    if w.seabed_stiffness > 0:
-        lines += [f"{w.seabed_stiffness!r} kBot", f"{w.seabed_damping!r} cBot"]
-    return "\n".join(lines + _tail(len(rows))) + "\n"
-
-
-def load_any(path, overrides=()) -> Scenario:
-    """A scenario from a TOML scenario file or a MoorDyn input file (told apart by content)."""
+    from mjtether.network import NetworkError, from_dict
     from mjtether.scenario.loading import _read
     name = str(path)
     text = _read(name, path)
     if Path(path).suffix.lower() != ".toml" and is_moordyn(text):
         return read(text=text, name=name, overrides=overrides)
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError:
+        data = {}  # (load_scenario says what is wrong with it)
+    if "lines" in data:
+        try:
+            return from_dict(data, name, overrides)
+        except NetworkError as exc:
+            raise _scenario_error(exc) from None
     return load_scenario(text=text, name=name, overrides=overrides)
+
+
+from .moordyn_write import current_profile, write, write_network  # noqa: F401 - the writers, re-exported

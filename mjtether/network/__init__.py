@@ -3,6 +3,15 @@
 (``run``). A MoorDyn file that is not one line from a fairlead to an anchor reads as a network
 (``mjtether.io.moordyn.read``)."""
 
-from .config import Body, Line, LineType, Network, NetworkError, Point
+from .config import (
+    Body,
+    Line,
+    LineType,
+    Network,
+    NetworkError,
+    Point,
+    from_dict,
+    with_overrides,
+)
 
-__all__ = ["Body", "Line", "LineType", "Network", "NetworkError", "Point"]
+__all__ = ["Body", "Line", "LineType", "Network", "NetworkError", "Point", "from_dict", "with_overrides"]

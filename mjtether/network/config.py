@@ -16,6 +16,7 @@ world frame z up, water surface at z = 0, seabed at z = -depth; angles in degree
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass, field
 
@@ -153,7 +154,9 @@ class Line:
 @dataclass(frozen=True)
 class Network:
     """Lines between points in a water column (depth m, density kg/m^3, gravity m/s^2) with a
-    flat seabed of MoorDyn's contact (kBot Pa/m, cBot Pa s/m) and Coulomb friction; the run's
+    flat seabed of MoorDyn's contact (kBot Pa/m, cBot Pa s/m) and Coulomb friction, a steady
+    current tabulated in depth (m below the surface, increasing; speed m/s; heading degrees from
+    +x towards +y; the east and north parts interpolated linearly, constant beyond); the run's
     duration (s), time step (s; None: the largest stable one) and output interval (s); ``settle``
     (s): how long it falls into place, damped, before the run (``mjtether.network.run.settle``)."""
 
@@ -168,6 +171,9 @@ class Network:
     seabed_stiffness: float = 3.0e6
     seabed_damping: float = 3.0e5
     seabed_friction: float = 0.0
+    current_depths: tuple = ()
+    current_speeds: tuple = ()
+    current_headings_deg: tuple = ()
     duration: float = 60.0
     timestep: float | None = None
     output_interval: float = 0.1
@@ -186,6 +192,12 @@ class Network:
         _checks.in_range("simulation.settle", self.settle, 0.0, 3600.0, "s")
         if self.timestep is not None:
             _checks.in_range("simulation.timestep", self.timestep, 1e-5, 0.05, "s")
+        for key in ("current_depths", "current_speeds", "current_headings_deg"):
+            object.__setattr__(self, key, tuple(float(_checks.finite(f"water.{key}", v))
+                                                for v in getattr(self, key)))
+        if not (len(self.current_depths) == len(self.current_speeds) == len(self.current_headings_deg)):
+            raise NetworkError("water.current_depths, current_speeds and current_headings_deg must be as long as "
+                               "each other")
         if not self.lines:
             raise NetworkError("lines: a network needs at least one line")
         names = [ln.name for ln in self.lines]
@@ -209,3 +221,90 @@ class Network:
     def attached(self, point: str) -> list[tuple[Line, str]]:
         """The lines at ``point``, each with the end (``"a"`` or ``"b"``) that is there."""
         return [(ln, end) for ln in self.lines for end in ("a", "b") if getattr(ln, end) == point]
+
+
+# ------------------------------------------------------------------------------ TOML
+
+_SECTIONS = {"water": {"depth", "rho", "gravity", "seabed_stiffness", "seabed_damping", "seabed_friction",
+                       "current_depths", "current_speeds", "current_headings_deg"},
+             "simulation": {"duration", "timestep", "output_interval", "settle"},
+             "line_types": None, "points": None, "bodies": None, "lines": None}
+
+
+def _fields(cls) -> set:
+    return {f for f in cls.__dataclass_fields__ if f != "name"}
+
+
+def _table(source: str, where: str, entry, cls, **extra):
+    if not isinstance(entry, dict):
+        raise NetworkError(f"{source}: {where} must be a table of {', '.join(sorted(_fields(cls)))}")
+    unknown = set(entry) - _fields(cls)
+    if unknown:
+        raise NetworkError(f"{source}: {where}: unknown key(s) {', '.join(sorted(unknown))}; allowed: "
+                           f"{', '.join(sorted(_fields(cls)))}")
+    missing = [f.name for f in dataclasses.fields(cls) if f.name not in entry and f.name not in extra
+               and f.default is dataclasses.MISSING and f.default_factory is dataclasses.MISSING]
+    if missing:
+        raise NetworkError(f"{source}: {where}: missing key(s) {', '.join(missing)}")
+    try:
+        return cls(**extra, **entry)
+    except ValueError as exc:
+        raise NetworkError(f"{source}: {where}: {exc}") from None
+
+
+def from_dict(data: dict, name: str = "<network>", overrides=()) -> Network:
+    """A network from its TOML tree: ``[water]`` and ``[simulation]`` (the ``Network`` fields),
+    ``[line_types.NAME]``, ``[points.NAME]`` and ``[bodies.NAME]`` (the fields of ``LineType``,
+    ``Point`` and ``Body``) and ``[[lines]]`` (those of ``Line``, ``name`` included);
+    ``overrides`` as in ``with_overrides``."""
+    unknown = set(data) - set(_SECTIONS)
+    if unknown:
+        raise NetworkError(f"{name}: unknown section(s) {', '.join(sorted(unknown))}; a network has "
+                           f"{', '.join(_SECTIONS)}")
+    flat = {}
+    for sec in ("water", "simulation"):
+        table = data.get(sec, {})
+        bad = set(table) - _SECTIONS[sec]
+        if bad:
+            raise NetworkError(f"{name}: [{sec}]: unknown key(s) {', '.join(sorted(bad))}; allowed: "
+                               f"{', '.join(sorted(_SECTIONS[sec]))}")
+        flat.update({(sec, k): v for k, v in table.items()})
+    types = {k: _table(name, f"line_types.{k}", v, LineType, name=k) for k, v in data.get("line_types", {}).items()}
+    points = {k: _table(name, f"points.{k}", v, Point, name=k) for k, v in data.get("points", {}).items()}
+    bodies = {k: _table(name, f"bodies.{k}", v, Body, name=k) for k, v in data.get("bodies", {}).items()}
+    lines = data.get("lines", [])
+    if not isinstance(lines, list):
+        raise NetworkError(f"{name}: lines must be a list of tables ([[lines]])")
+    line_list = []
+    for i, entry in enumerate(lines):
+        if not isinstance(entry, dict) or "name" not in entry:
+            raise NetworkError(f"{name}: lines[{i}] needs a name")
+        line_list.append(_table(name, f"lines[{i}] ({entry['name']!r})", {k: v for k, v in entry.items()
+                                                                          if k != "name"}, Line, name=str(entry["name"])))
+    try:
+        net = Network(name, types, points, tuple(line_list), bodies=bodies, **{k: v for (_, k), v in flat.items()})
+    except ValueError as exc:
+        raise NetworkError(f"{name}: {exc}") from None
+    return with_overrides(net, overrides)
+
+
+def with_overrides(net: Network, overrides=()) -> Network:
+    """``net`` with ``--set`` items ``simulation.KEY=VALUE`` or ``water.KEY=VALUE`` (numbers;
+    ``simulation.timestep=none``: the largest stable step) applied and checked."""
+    changes = {}
+    for item in overrides:
+        key, eq, val = str(item).partition("=")
+        key = key.strip()
+        sec, _, field_ = key.partition(".")
+        if not eq or sec not in ("water", "simulation") or field_ not in _SECTIONS[sec] or field_.startswith("current"):
+            raise NetworkError(f"--set {key}: a network takes --set KEY=VALUE with KEY one of "
+                               + ", ".join(f"{s}.{k}" for s in ("simulation", "water") for k in sorted(_SECTIONS[s])
+                                         if not k.startswith("current")))
+        try:
+            changes[field_] = None if (field_ == "timestep" and val.strip().lower() == "none") else float(val)
+        except ValueError:
+            raise NetworkError(f"--set {key}: give {key}=NUMBER, got {val!r}") from None
+    try:
+        return dataclasses.replace(net, **changes) if changes else net
+    except ValueError as exc:
+        raise NetworkError(f"{net.name}: {exc}") from None

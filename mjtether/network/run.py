@@ -40,7 +40,13 @@ noise of 25 %) though each line's stability limits allow it; at 5 ms they settle
 
 
 def water_of(net: Network) -> wm.WaterColumn:
-    return wm.WaterColumn(depth=net.depth, density=wm.ConstantDensity(net.rho), gravity=net.gravity)
+    """The network's water column (its current's headings from degrees to radians)."""
+    current = None
+    if net.current_depths:
+        current = wm.TabulatedCurrent(net.current_depths, net.current_speeds,
+                                      [math.radians(h) for h in net.current_headings_deg])
+    return wm.WaterColumn(depth=net.depth, density=wm.ConstantDensity(net.rho), gravity=net.gravity,
+                          **({"current": current} if current is not None else {}))
 
 
 def _quat(rpy_deg) -> list:
@@ -77,7 +83,7 @@ def timestep_for(net: Network, states: dict, water: wm.WaterColumn) -> float:
         tspec = lt.tether(ln.length, ln.segments)
         st = states[ln.name]
         tension = max(np.linalg.norm(st.force_a), np.linalg.norm(st.force_b))
-        dts.append(stability.max_timestep(tspec, water, relative_speed=0.0, tension=tension))
+        dts.append(stability.max_timestep(tspec, water, tension=tension))  # (the largest current's drag)
         if net.seabed_stiffness > 0:
             dts.append(0.9 * builder.seabed_contact(tspec, net.rho, net.seabed_stiffness, net.seabed_damping)[2])
     dt = min(dts)
@@ -125,6 +131,7 @@ def build(net: Network) -> NetworkRun:
         body = spec.worldbody.add_body(name=f"body/{name}", pos=list(b.position), quat=_quat(b.rpy_deg))
         if b.kind == "free":
             body.add_freejoint()
+            body.explicitinertial = True  # (else MuJoCo infers the inertia from geoms, and there are none)
             body.mass, body.ipos, body.inertia = b.mass, list(b.cg), list(b.inertia)
             hydro.append(add_body_hydro(spec, f"body/{name}", RigidBodyHydro(
                 volume=b.volume, drag_cd=(1.0, 1.0, 1.0), drag_area=b.cd_area,
@@ -141,7 +148,8 @@ def build(net: Network) -> NetworkRun:
         body = spec.worldbody.add_body(name=f"point/{name}", pos=list(positions[name]))
         body.add_freejoint()
         r = 0.1
-        body.mass, body.inertia = mass, [0.4 * mass * r * r] * 3
+        body.explicitinertial = True  # (the mass at the point: a sphere of radius r)
+        body.mass, body.ipos, body.inertia = mass, [0.0, 0.0, 0.0], [0.4 * mass * r * r] * 3
         body.gravcomp = (mass - p.mass) / mass
         body.add_site(name=f"point/{name}", size=[r, r, r])
         hydro.append(add_body_hydro(spec, f"point/{name}", RigidBodyHydro(

@@ -132,8 +132,8 @@ REFUSED = {  # name: (edit of the chain file, what the error must contain)
                                    "line 16: UnstrLen must be a number, got 'long'"),
     "a seafloor file": (("150           WtrDpth", "sea.txt       SeafloorFile\n150           WtrDpth"),
                         "line 21: SeafloorFile: a 3-D seafloor is not supported"),
-    "a current grid": (("150           WtrDpth", "1             Currents\n150           WtrDpth"),
-                       "line 21: currents = 1: currents from MoorDyn's current files are not supported"),
+    "a dynamic current": (("150           WtrDpth", "2             Currents\n150           WtrDpth"),
+                          "line 21: Currents = 2: dynamic or 4-D currents are not supported"),
     "static friction above kinetic": (("150           WtrDpth", "0.5 FrictionCoefficient\n1.5 StatDynFricScale\n150 WtrDpth"),
                                       "static and kinetic friction differ"),
     "a rod": (("---------------------- POINTS", "---------------------- RODS ---\nID RodType\n(#) (name)\n"

@@ -1,0 +1,200 @@
+"""Writing MoorDyn v2 input files: a scenario (one line, or a line make-up as lines joined at
+free points) and a network of lines (``mjtether.network``), read back by ``mjtether.io.moordyn``
+and run by MoorDyn-C (``tests/io/test_moordyn.py``, ``tests/io/test_moordyn_files.py``)."""
+
+from __future__ import annotations
+
+import math
+
+from mjtether.scenario import Scenario, ScenarioError
+
+
+def write(sc: Scenario) -> str:
+    """A MoorDyn v2 input file of a scenario (one line from the anchored robot end to a coupled
+    fairlead); ScenarioError naming the key for what MoorDyn cannot express."""
+    t, w, r, s = sc.tether, sc.water, sc.robot, sc.ship
+
+    def refuse(key, why):
+        raise ScenarioError(f"{key}: {why}: not expressible in a MoorDyn file", key)
+
+    if r.type != "anchor":
+        refuse("robot.type", f"{r.type!r} (only an anchored end is)")
+    if t.EA == 0.0 and not t.sections:
+        refuse("tether.EA", "0 (inextensible; MoorDyn needs a stiffness)")
+    if w.density.type != "constant":
+        refuse("water.density.type", repr(w.density.type))
+    c = w.current
+    if c.type != "constant" or c.speed != 0.0:
+        refuse("water.current", "a current (MoorDyn takes currents from grid files)")
+    if w.seabed_slope_deg != 0.0:
+        refuse("water.seabed_slope_deg", "a sloped seabed (MoorDyn takes bathymetry from a file)")
+    if s.mode != "fixed" or s.heave_amplitude != 0.0:
+        refuse("ship.mode", "a moving ship (MoorDyn's coupled points move with the coupled program)")
+    if sc.winch.mode != "fixed":
+        refuse("winch.mode", repr(sc.winch.mode))
+    if t.is_makeup:
+        return _write_makeup(sc, refuse)
+    mass = t.mass_per_length if t.mass_per_length > 0 else t.density * math.pi * t.diameter ** 2 / 4
+    x0, y0 = s.position
+    lines = [
+        "--------------------- MoorDyn Input File ------------------------------------",
+        "written by mjtether from a scenario",
+        "---------------------- LINE TYPES ---------------------------------------------",
+        "TypeName   Diam    Mass/m    EA    BA/-zeta    EI    Cd    Ca    CdAx    CaAx",
+        "(name)     (m)     (kg/m)    (N)   (N-s/-)    (N-m^2) (-)   (-)   (-)     (-)",
+        f"tether {t.diameter!r} {mass!r} {t.EA!r} -1 {t.EI!r} {t.cd_normal!r} {t.ca_normal!r} {t.cd_tangential!r} "
+        f"{t.ca_normal if t.added_mass == 'isotropic' else 0.0!r}",
+        "---------------------- POINTS -------------------------------------------------",
+        "ID   Attachment  X    Y    Z    Mass   Volume  CdA   Ca",
+        "(#)  (word)      (m)  (m)  (m)  (kg)   (m^3)   (m^2) (-)",
+        f"1 Fixed {r.position[0]!r} {r.position[1]!r} {r.position[2]!r} 0 0 0 0",
+        f"2 Coupled {x0!r} {y0!r} {s.fairlead_z!r} 0 0 0 0",
+        "---------------------- LINES --------------------------------------------------",
+        "ID  LineType  AttachA  AttachB  UnstrLen  NumSegs  LineOutputs",
+        "(#) (name)    (#)      (#)      (m)       (-)      (-)",
+        f"1 tether 1 2 {t.length!r} {t.segments} -",
+        "---------------------- OPTIONS ------------------------------------------------",
+        f"{sc.simulation.timestep!r} dtM",
+        f"{w.gravity!r} g",
+        f"{w.density.rho!r} rho",
+        f"{w.depth!r} WtrDpth",
+        f"{t.seabed_friction!r} FrictionCoefficient",
+    ]
+    if w.seabed_stiffness > 0:
+        lines += [f"{w.seabed_stiffness!r} kBot", f"{w.seabed_damping!r} cBot"]
+    return "\n".join(lines + _tail(1)) + "\n"
+
+
+def write_network(net) -> str:
+    """A MoorDyn v2 input file of a ``mjtether.network.Network``: points, bodies and lines numbered
+    in their order (the names in comments), g written exactly; a current is ``1 Currents``, whose
+    profile ``current_profile(net)`` must be written beside the file as ``CURRENT_FILE``."""
+    if net.timestep is not None and net.timestep <= 0:
+        raise ScenarioError("simulation.timestep: must be > 0", "simulation.timestep")
+    pid = {name: i for i, name in enumerate(net.points, 1)}
+    bid = {name: i for i, name in enumerate(net.bodies, 1)}
+    out = ["--------------------- MoorDyn Input File ------------------------------------",
+           f"written by mjtether from the network {net.name} (points: "
+           + ", ".join(f"{i} = {n}" for n, i in pid.items()) + ")",
+           "---------------------- LINE TYPES ---------------------------------------------",
+           "TypeName   Diam    Mass/m    EA    BA/-zeta    EI    Cd    Ca    CdAx    CaAx",
+           "(name)     (m)     (kg/m)    (N)   (N-s/-)    (N-m^2) (-)   (-)   (-)     (-)"]
+    out += [f"{lt.name} {lt.diameter!r} {lt.mass_per_length!r} {lt.EA!r} -1 {lt.EI!r} {lt.cd_normal!r} "
+            f"{lt.ca_normal!r} {lt.cd_tangential!r} {lt.ca_normal if lt.added_mass == 'isotropic' else 0.0!r}"
+            for lt in net.line_types.values()]
+    if net.bodies:
+        out += ["---------------------- BODIES -------------------------------------------------",
+                "ID Attachment X0 Y0 Z0 r0 p0 y0 Mass CG* I* Volume CdA* Ca*",
+                "(#) (-) (m) (m) (m) (deg) (deg) (deg) (kg) (m) (kg-m^2) (m^3) (m^2) (-)"]
+        for name, b in net.bodies.items():
+            out.append(f"{bid[name]} {b.kind.capitalize()} {' '.join(repr(float(x)) for x in b.position)} "
+                       f"{' '.join(repr(float(x)) for x in b.rpy_deg)} {b.mass!r} {_bars(b.cg)} {_bars(b.inertia)} "
+                       f"{b.volume!r} {_bars(b.cd_area)} {_bars(b.ca)}")
+    out += ["---------------------- POINTS -------------------------------------------------",
+            "ID   Attachment  X    Y    Z    Mass   Volume  Fx Fy Fz CdA   Ca",
+            "(#)  (word)      (m)  (m)  (m)  (kg)   (m^3)   (N) (N) (N) (m^2) (-)"]
+    for name, p in net.points.items():
+        word = f"Body{bid[p.body]}" if p.kind == "body" else p.kind.capitalize()
+        out.append(f"{pid[name]} {word} {' '.join(repr(float(x)) for x in p.position)} {p.mass!r} {p.volume!r} "
+                   f"{' '.join(repr(float(x)) for x in p.force)} {p.cd_area!r} {p.ca!r}")
+    out += ["---------------------- LINES --------------------------------------------------",
+            "ID  LineType  AttachA  AttachB  UnstrLen  NumSegs  LineOutputs",
+            "(#) (name)    (#)      (#)      (m)       (-)      (-)"]
+    out += [f"{i} {ln.type} {pid[ln.a]} {pid[ln.b]} {ln.length!r} {ln.segments} -" for i, ln in enumerate(net.lines, 1)]
+    out += ["---------------------- OPTIONS ------------------------------------------------",
+            f"{net.gravity!r} g", f"{net.rho!r} rho", f"{net.depth!r} WtrDpth", f"{net.seabed_stiffness!r} kBot",
+            f"{net.seabed_damping!r} cBot", f"{net.seabed_friction!r} FrictionCoefficient",
+            f"{max(net.settle, 1.0)!r} TmaxIC", *(["1 Currents"] if net.current_depths else []),
+            # MoorDyn's explicit step: the smaller of the one its CFL number gives (as its own files set
+            # it) and 1 ms (at the CFL's 2.1 ms alone the example network diverges in MoorDyn-C)
+            "0.1 CFL", "0.001 dtM",
+            "------------------------- need this line --------------------------------------"]
+    return "\n".join(out) + "\n"
+
+
+def _bars(values) -> str:
+    """A MoorDyn per-axis entry: values joined by '|' (``1.0|2.0|3.0``)."""
+    return "|".join(repr(float(x)) for x in values)
+
+
+def current_profile(net) -> str:
+    """MoorDyn's ``CURRENT_FILE`` of a network's current (for ``write_network``'s ``1 Currents``)."""
+    rows = ["--------------------- MoorDyn steady currents File ----------------------------------",
+            f"written by mjtether from the network {net.name}", "z (m), ux (m/s), uy (m/s), uz (m/s)"]
+    for d, u, h in sorted(zip(net.current_depths, net.current_speeds, net.current_headings_deg), reverse=True):
+        # (z increasing, from the deepest row up: MoorDyn interpolates on an ascending grid)
+        rows.append(f"{-d!r} {u * math.cos(math.radians(h))!r} {u * math.sin(math.radians(h))!r} 0.0")
+    return "\n".join(rows) + "\n"
+
+
+def _tail(n_lines: int) -> list[str]:
+    return ["---------------------- OUTPUTS ------------------------------------------------",
+            "FAIRTEN1", f"ANCHTEN{n_lines}",
+            "------------------------- need this line --------------------------------------"]
+
+
+def _write_makeup(sc: Scenario, refuse) -> str:
+    """``write`` for a line make-up: a line per section (cut also where a point load sits, which
+    must be on a node), joined at free points that carry the point loads; floats refused."""
+    t, w, r, s = sc.tether, sc.water, sc.robot, sc.ship
+    if t.floats:
+        refuse("tether.floats", "float sections (MoorDyn has no distributed buoyancy on a line)")
+    from mjtether.scenario.runner import makeup_from
+    mk = makeup_from(sc)
+    if any(sec.EA is None for sec in mk.sections):
+        refuse("tether.sections", "an inextensible section (EA 0; MoorDyn needs a stiffness)")
+    nodes = mk.node_arc_length
+    cuts = {0.0, mk.length, *(float(b) for b in mk.section_bounds)}
+    for i, p in enumerate(t.point_loads):
+        k = int(abs(nodes - p.arc_length).argmin())
+        if abs(nodes[k] - p.arc_length) > 1e-9 * mk.length:
+            refuse(f"tether.point_loads[{i}].arc_length", f"{p.arc_length:g} m, between nodes (a MoorDyn free point "
+                   "joins two lines at a node; put the load on a node or a section joint)")
+        if 0 < k < len(nodes) - 1:
+            cuts.add(float(nodes[k]))
+    cuts = sorted(cuts)
+    types, rows = {}, []
+    for a, b in zip(cuts[:-1], cuts[1:]):
+        j = min(int(mk.section_bounds.searchsorted(a + 1e-9 * mk.length, side="right")) - 1, len(mk.sections) - 1)
+        sec = mk.sections[j]  # the section this piece is cut from
+        key = (sec.diameter, sec.mass_per_length, sec.EA, sec.EI, sec.cd_normal, sec.ca_normal, sec.cd_tangential)
+        name = types.setdefault(key, f"type{len(types) + 1}")
+        rows.append((name, b - a, int(round((b - a) / sec.segment_length))))
+    caax = lambda ca: ca if t.added_mass == "isotropic" else 0.0  # noqa: E731
+    x0, y0 = s.position
+    lines = [
+        "--------------------- MoorDyn Input File ------------------------------------",
+        "written by mjtether from a scenario (a line make-up)",
+        "---------------------- LINE TYPES ---------------------------------------------",
+        "TypeName   Diam    Mass/m    EA    BA/-zeta    EI    Cd    Ca    CdAx    CaAx",
+        "(name)     (m)     (kg/m)    (N)   (N-s/-)    (N-m^2) (-)   (-)   (-)     (-)",
+        *(f"{name} {d!r} {m!r} {ea!r} -1 {ei!r} {cd!r} {ca!r} {cdax!r} {caax(ca)!r}"
+          for (d, m, ea, ei, cd, ca, cdax), name in types.items()),
+        "---------------------- POINTS -------------------------------------------------",
+        "ID   Attachment  X    Y    Z    Mass   Volume  CdA   Ca",
+        "(#)  (word)      (m)  (m)  (m)  (kg)   (m^3)   (m^2) (-)",
+        f"1 Coupled {x0!r} {y0!r} {s.fairlead_z!r} 0 0 0 0",
+    ]
+    # free points on the straight chord, where MoorDyn's initial-condition solver starts them
+    top, bot = [x0, y0, s.fairlead_z], list(r.position)
+    for i, c in enumerate(cuts[1:-1]):
+        f = c / mk.length
+        at = [p.arc_length == c or abs(p.arc_length - c) <= 1e-9 * mk.length for p in t.point_loads]
+        mass = sum(p.mass for p, a in zip(t.point_loads, at) if a)
+        vol = sum(p.volume for p, a in zip(t.point_loads, at) if a)
+        cda = sum(p.cd_area for p, a in zip(t.point_loads, at) if a)
+        ca = sum(p.ca * p.volume for p, a in zip(t.point_loads, at) if a) / vol if vol > 0 else 0.0
+        xyz = " ".join(repr(top[k] + f * (bot[k] - top[k])) for k in range(3))
+        lines.append(f"{i + 2} Free {xyz} {mass!r} {vol!r} {cda!r} {ca!r}")
+    anchor = len(cuts)
+    lines += [f"{anchor} Fixed {bot[0]!r} {bot[1]!r} {bot[2]!r} 0 0 0 0",
+              "---------------------- LINES --------------------------------------------------",
+              "ID  LineType  AttachA  AttachB  UnstrLen  NumSegs  LineOutputs",
+              "(#) (name)    (#)      (#)      (m)       (-)      (-)"]
+    lines += [f"{i + 1} {name} {i + 1} {i + 2} {length!r} {n} -" for i, (name, length, n) in enumerate(rows)]
+    lines += ["---------------------- OPTIONS ------------------------------------------------",
+              f"{sc.simulation.timestep!r} dtM", f"{w.gravity!r} g", f"{w.density.rho!r} rho", f"{w.depth!r} WtrDpth",
+              f"{t.seabed_friction!r} FrictionCoefficient"]
+    if w.seabed_stiffness > 0:
+        lines += [f"{w.seabed_stiffness!r} kBot", f"{w.seabed_damping!r} cBot"]
+    return "\n".join(lines + _tail(len(rows))) + "\n"
