@@ -382,7 +382,7 @@ class TetherEnv(gym.Env):
                 g = scn.geoms[scn.ngeom]
                 mujoco.mjv_initGeom(g, mujoco.mjtGeom.mjGEOM_CAPSULE, np.zeros(3), np.zeros(3), np.eye(3).ravel(),
                                     np.asarray(rgba, np.float32))
-                mujoco.mjv_connector(g, mujoco.mjtGeom.mjGEOM_CAPSULE, max(r.end_diameter, 0.05), x[i],
+                mujoco.mjv_connector(g, mujoco.mjtGeom.mjGEOM_CAPSULE, max(r.contact_diameter, 0.05), x[i],
                                      x[i + 1])
                 scn.ngeom += 1
             for mk in self.render_markers():

@@ -386,7 +386,7 @@ class FrameRenderer:
         x = r.named.tether_nodes
         view = self._place_camera(x if r.tethered else np.vstack([x, r.named.robot_position]))
         mujoco.mjv_updateScene(m, d, self.opt, None, self.cam, mujoco.mjtCatBit.mjCAT_ALL, self.scene)
-        width = max(r.end_diameter / 2, 0.0025 * view)
+        width = max(r.contact_diameter / 2, 0.0025 * view)
         self._add_tether(x, r.named.tether_tension, width)
         if decorations:
             self._add_water_and_current(x, view)

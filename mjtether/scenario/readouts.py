@@ -357,7 +357,7 @@ class Readouts:
         nodes within one diameter of it (``x``: the deployed nodes, if already read)."""
         run = self._run
         x = self._bt.nodes(self._sim.data) if x is None else x
-        on = x[:, 2] < run.seabed_z(x[:, 0], x[:, 1]) + run.end_diameter
+        on = x[:, 2] < run.seabed_z(x[:, 0], x[:, 1]) + run.contact_diameter
         return float(self._bt.rest_lengths[self._bt.first:][on[1:] & on[:-1]].sum())
 
     def touchdown_arc_length(self) -> float | None:
@@ -365,7 +365,7 @@ class Readouts:
         seabed (as ``length_on_seabed`` counts them), or None if none does."""
         run = self._run
         x = self._bt.nodes(self._sim.data)
-        on = x[:, 2] < run.seabed_z(x[:, 0], x[:, 1]) + run.end_diameter
+        on = x[:, 2] < run.seabed_z(x[:, 0], x[:, 1]) + run.contact_diameter
         lying = on[1:] & on[:-1]
         if not lying.any():
             return None

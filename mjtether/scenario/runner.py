@@ -202,9 +202,9 @@ class ScenarioRun:
         return pilot
 
     @property
-    def end_diameter(self) -> float:
-        """Diameter (m) of the cable at the robot end (of the last section of a make-up)."""
-        return self.scene.end_diameter
+    def contact_diameter(self) -> float:
+        """Diameter (m) of the cable's seabed contact (``Scene.contact_diameter``)."""
+        return self.scene.contact_diameter
 
     def seabed_z(self, x, y):
         """Height (m) of the (possibly sloped) seabed at ``x``, ``y`` (m)."""

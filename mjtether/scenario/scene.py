@@ -114,9 +114,12 @@ class Scene:
         return self.makeup if self.makeup is not None else self.tether_spec
 
     @property
-    def end_diameter(self) -> float:
-        """Diameter (m) of the cable at the robot end (of the last section of a make-up)."""
-        return float(self.makeup.element_diameter[-1]) if self.makeup is not None else self.tether_spec.diameter
+    def contact_diameter(self) -> float:
+        """Diameter (m) of the cable's seabed contact: the cable's, or a make-up's widest section's
+        (the builder gives the whole flex that radius), so that its axis rests one such radius
+        above the seabed. (A make-up's anchor placed one radius of its thinner last section up
+        sat inside the contact of the wider ones: 11.8 MN at the anchor.)"""
+        return float(self.makeup.element_diameter.max()) if self.makeup is not None else self.tether_spec.diameter
 
     def fairlead_start(self) -> np.ndarray:
         """Where the tether leaves the ship at the start (m, world): the prescribed ship's
@@ -136,7 +139,7 @@ class Scene:
         """An anchor's tow point (m, world): the scenario's position, the cable's axis held at
         least one radius above a seabed there."""
         robot = np.array(self.sc.robot.position, dtype=float)
-        radius = self.end_diameter / 2
+        radius = self.contact_diameter / 2
         robot[2] = max(robot[2], self.seabed_z(robot[0], robot[1]) + radius / math.cos(self.slope))
         return robot
 

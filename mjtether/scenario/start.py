@@ -179,7 +179,7 @@ def steady_start(scene: Scene, top, robot, dt: float):
     seabed is taken one cable radius lower, where the cable's axis lies), or ``None`` and
     why, if there is none; the run then stops, or starts from ``fallback_nodes`` and
     settles where the scenario asks for it (``simulation.start``)."""
-    radius = scene.end_diameter / 2
+    radius = scene.contact_diameter / 2
     # the cable's axis rests one radius above the seabed; a walker's tow point is higher: the
     # steady state is solved to the point on the seabed under it, for the length less that
     # height, and the cable then rises straight up to the tow point (on a sloped seabed: a
@@ -294,7 +294,7 @@ def fallback_nodes(scene: Scene, top, robot) -> np.ndarray:
     short for that path (a tow point high above the seabed: a vehicle, an anchor in mid-water)
     hangs as a V from the ship to the tow point instead, as deep as its length allows."""
     L = scene.line.length
-    lift = scene.end_diameter / 2 / math.cos(scene.slope)  # the cable's axis over the seabed
+    lift = scene.contact_diameter / 2 / math.cos(scene.slope)  # the cable's axis over the seabed
 
     def on_floor(p):
         return np.array([p[0], p[1], float(scene.seabed_z(p[0], p[1])) + lift])

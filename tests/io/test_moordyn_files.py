@@ -237,3 +237,19 @@ def test_a_float_holds_up_a_vertical_line_with_its_net_buoyancy():
     assert rows[-1, cols.index("line1_A_tension_N")] == pytest.approx(bottom, rel=1e-4)
     x = rows[-1, cols.index("pointfloat_x_m"):cols.index("pointfloat_z_m") + 1]
     assert np.allclose(x[:2], 0.0, atol=1e-3)  # (straight above the anchor)
+
+
+def test_a_make_up_thinner_at_the_anchor_matches_moordyn_c(tmp_path):
+    """tests/data/makeup_thin_anchor_end.txt: a 40 mm wire from the anchor joined to a 200 mm chain
+    up to the fairlead (a line make-up). Its anchor used to be placed one radius of the wire above
+    the seabed, inside the chain-wide contact capsule of the laid cable: 362 MN at the anchor
+    (measured before the fix; MoorDyn-C 80.8 kN). Fairlead and anchor tensions against MoorDyn-C
+    within 1 % of the fairlead's (measured 0.4 % and 0.35 %: mjtether's cable rests with its axis one
+    chain radius, 0.1 m, above the seabed, MoorDyn's nodes on it)."""
+    path = Path(__file__).resolve().parents[1] / "data" / "makeup_thin_anchor_end.txt"
+    ref = moordyn_c.end_loads(path, 60.0, 10.0)
+    rows = _run(tmp_path, path, 60.0)
+    late = rows["time_s"] >= 50.0
+    fair, anchor = np.linalg.norm(ref[2][1]), np.linalg.norm(ref[1][0])
+    assert abs(rows["ship_tension_N"][late].mean() - fair) <= 0.01 * fair
+    assert abs(rows["tow_tension_N"][late].mean() - anchor) <= 0.01 * fair
