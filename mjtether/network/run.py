@@ -209,12 +209,13 @@ def settle(r: NetworkRun, duration: float) -> None:
 
 def columns(net: Network) -> list[str]:
     """The time series' columns: per line, the tension (N) and its horizontal and vertical parts
-    at ends A and B; per free point, its position (m)."""
+    at ends A and B and its stretched length (m); per free point, its position (m)."""
     cols = ["time_s"]
     for ln in net.lines:
         for end in ("A", "B"):
             cols += [f"line{ln.name}_{end}_tension_N", f"line{ln.name}_{end}_horizontal_N",
                      f"line{ln.name}_{end}_vertical_N"]
+        cols.append(f"line{ln.name}_length_m")
     for name, p in net.points.items():
         if p.kind == "free":
             cols += [f"point{name}_{k}_m" for k in "xyz"]
@@ -226,6 +227,7 @@ def sample(r: NetworkRun) -> list[float]:
     for ln in r.net.lines:
         for f in r.line_forces(ln.name):
             row += [float(np.linalg.norm(f)), float(math.hypot(f[0], f[1])), float(abs(f[2]))]
+        row.append(r.sim.tethers[ln.name].stretched_length(r.sim.data))
     for name in r.point_bodies:
         row += list(r.point_position(name))
     return row

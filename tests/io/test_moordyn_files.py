@@ -235,6 +235,9 @@ def test_a_float_holds_up_a_vertical_line_with_its_net_buoyancy():
     cols = run.columns(r.net)
     assert rows[-1, cols.index("line1_B_tension_N")] == pytest.approx(top, rel=1e-4)
     assert rows[-1, cols.index("line1_A_tension_N")] == pytest.approx(bottom, rel=1e-4)
+    # stretched by the mean tension over EA (the line's own closed form), within 1e-3 of the stretch
+    stretch = 50.0 * (top + bottom) / 2 / 1e8
+    assert rows[-1, cols.index("line1_length_m")] - 50.0 == pytest.approx(stretch, rel=1e-3)
     x = rows[-1, cols.index("pointfloat_x_m"):cols.index("pointfloat_z_m") + 1]
     assert np.allclose(x[:2], 0.0, atol=1e-3)  # (straight above the anchor)
 
