@@ -3,11 +3,12 @@ point and free body a rigid body with its hydrodynamics, every held point a worl
 
 Each line is added with its end B as the tether's start and end A as its end (MoorDyn's ends:
 A usually the anchor, B the fairlead). A free point is a body with a free joint carrying the
-point's mass, buoyancy (its volume), drag (CdA, per world axis) and added mass (Ca rho V);
+point's mass, buoyancy (its volume), drag (CdA on each of its axes) and added mass (Ca rho V);
 a point lighter than the end nodes of its lines is given that much more inertia, with its
 weight compensated (MuJoCo's ``gravcomp``), so that the constraints that hold the line ends to
 it are as well conditioned as the rest: the statics are exact, and the point's inertia in the
-dynamics is that of the line ends it joins. Coupled and fixed bodies are held at their pose.
+dynamics is that of the line ends it joins. Coupled and fixed bodies are held at their pose; a
+free body starts at its given pose (the statics hold it there) and settles.
 
 The time step is the largest that every line allows (``cable.stability.max_timestep`` at the
 steady-state tension, and the seabed contact's limit), at most ``MAX_TIMESTEP``; a MoorDyn file's ``dtM``

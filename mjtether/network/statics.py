@@ -2,7 +2,8 @@
 ends, the free points where the line forces, their weight, buoyancy and applied force balance.
 
 ``line_ends`` gives the forces a line exerts on its two ends (N, world frame) and its shape;
-``equilibrium`` moves the free points until the force on each is zero (scipy's ``root``).
+``equilibrium`` moves the free points until the force on each is zero (scipy's ``root``); bodies,
+free ones too, stay at their given pose (a free body then settles in the dynamics).
 Where the catenary has no answer (a line that is weightless or buoyant in water, or hangs
 vertically) the line is a straight elastic bar carrying half its wet weight at each end:
 exact for a weightless line, and a start the dynamics settle from otherwise.
