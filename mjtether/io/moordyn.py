@@ -20,7 +20,8 @@ least as deep as the lowest point).
   ``[[tether.point_loads]]`` at each free point with mass, volume or drag;
 * a ``mjtether.network.Network`` for anything else: several lines sharing points, free points
   and free line ends, fixed or coupled or free bodies. It settles for the file's TmaxIC (at most
-  ``MAX_SETTLE``) before its run, as MoorDyn relaxes before its own.
+  ``MAX_SETTLE``) before its run, as MoorDyn relaxes before its own; with TmaxIC 0 it starts,
+  as MoorDyn does, from the file's positions at rest.
 
 Line types: Diam, Mass/m, EA, BA/-zeta, EI, Cd, Ca, CdAx, CaAx; CaAx = Ca is mjtether's
 isotropic added mass, CaAx = 0 its "normal" one (other values: the nearer, with a warning);
@@ -516,13 +517,15 @@ def _tether(name, p: Parsed, chain) -> dict:
 def _network(p: Parsed, overrides=()):
     """The ``Network`` of a parsed file, ``overrides`` applied (``network.config.with_overrides``).
     MoorDyn relaxes the system for up to TmaxIC before its run: mjtether settles as long (at most
-    ``MAX_SETTLE``), damped, from its steady state."""
+    ``MAX_SETTLE``), damped, from its steady state. With TmaxIC 0 MoorDyn starts from the file's
+    positions at rest, and so does mjtether (``start = "as_written"``)."""
     from mjtether.network import Network, with_overrides
     try:
         net = Network(p.name, p.line_types, p.points, tuple(p.lines), bodies=p.bodies, depth=p.depth, rho=p.rho,
                       gravity=p.gravity, seabed_stiffness=p.kbot, seabed_damping=p.cbot, seabed_friction=p.friction,
                       current_depths=p.current[0], current_speeds=p.current[1], current_headings_deg=p.current[2],
-                      duration=DEFAULT_DURATION, settle=min(p.tmax_ic, MAX_SETTLE), notes=tuple(p.notes))
+                      duration=DEFAULT_DURATION, settle=min(p.tmax_ic, MAX_SETTLE),
+                      start="as_written" if p.tmax_ic <= 0 else "steady", notes=tuple(p.notes))
         return with_overrides(net, overrides)
     except ValueError as exc:  # (NetworkError, and the range checks' ValueError)
         raise _scenario_error(exc) from None

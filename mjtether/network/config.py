@@ -25,6 +25,7 @@ from mjtether.cable.tether import TetherSpec
 
 POINT_KINDS = ("fixed", "coupled", "body", "free")
 BODY_KINDS = ("fixed", "coupled", "free")
+STARTS = ("steady", "as_written")
 DEFAULT_GRAVITY = 9.80665
 """MoorDyn-C's default g (m/s^2)."""
 
@@ -158,7 +159,10 @@ class Network:
     current tabulated in depth (m below the surface, increasing; speed m/s; heading degrees from
     +x towards +y; the east and north parts interpolated linearly, constant beyond); the run's
     duration (s), time step (s; None: the largest stable one) and output interval (s); ``settle``
-    (s): how long it falls into place, damped, before the run (``mjtether.network.run.settle``)."""
+    (s): how long it falls into place, damped, before the run (``mjtether.network.run.settle``);
+    ``start``: ``"steady"`` (the free points and bodies in equilibrium, ``statics.equilibrium``,
+    then settled) or ``"as_written"`` (every point at rest where it is given, each line's own
+    steady state between its ends, no settling: a pendulum released from its given angle)."""
 
     name: str
     line_types: dict
@@ -178,6 +182,7 @@ class Network:
     timestep: float | None = None
     output_interval: float = 0.1
     settle: float = 0.0
+    start: str = "steady"
     notes: tuple = ()
 
     def __post_init__(self):
@@ -190,6 +195,8 @@ class Network:
         _checks.positive("simulation.duration", self.duration, "s")
         _checks.positive("simulation.output_interval", self.output_interval, "s")
         _checks.in_range("simulation.settle", self.settle, 0.0, 3600.0, "s")
+        if self.start not in STARTS:
+            raise NetworkError(f"simulation.start must be one of {', '.join(STARTS)}, got {self.start!r}")
         if self.timestep is not None:
             _checks.in_range("simulation.timestep", self.timestep, 1e-5, 0.05, "s")
         for key in ("current_depths", "current_speeds", "current_headings_deg"):
@@ -227,7 +234,7 @@ class Network:
 
 _SECTIONS = {"water": {"depth", "rho", "gravity", "seabed_stiffness", "seabed_damping", "seabed_friction",
                        "current_depths", "current_speeds", "current_headings_deg"},
-             "simulation": {"duration", "timestep", "output_interval", "settle"},
+             "simulation": {"duration", "timestep", "output_interval", "settle", "start"},
              "line_types": None, "points": None, "bodies": None, "lines": None}
 
 
@@ -290,7 +297,8 @@ def from_dict(data: dict, name: str = "<network>", overrides=()) -> Network:
 
 def with_overrides(net: Network, overrides=()) -> Network:
     """``net`` with ``--set`` items ``simulation.KEY=VALUE`` or ``water.KEY=VALUE`` (numbers;
-    ``simulation.timestep=none``: the largest stable step) applied and checked."""
+    ``simulation.timestep=none``: the largest stable step; ``simulation.start=as_written``)
+    applied and checked."""
     changes = {}
     for item in overrides:
         key, eq, val = str(item).partition("=")
@@ -300,6 +308,9 @@ def with_overrides(net: Network, overrides=()) -> Network:
             raise NetworkError(f"--set {key}: a network takes --set KEY=VALUE with KEY one of "
                                + ", ".join(f"{s}.{k}" for s in ("simulation", "water") for k in sorted(_SECTIONS[s])
                                          if not k.startswith("current")))
+        if field_ == "start":
+            changes[field_] = val.strip()
+            continue
         try:
             changes[field_] = None if (field_ == "timestep" and val.strip().lower() == "none") else float(val)
         except ValueError:

@@ -117,9 +117,13 @@ class NetworkRun:
 
 
 def build(net: Network) -> NetworkRun:
-    """The network in MuJoCo at its steady state (``statics.equilibrium``)."""
+    """The network in MuJoCo at its steady state (``statics.equilibrium``), or with every point
+    where it is given (``net.start == "as_written"``)."""
     water = water_of(net)
-    positions, note = statics.equilibrium(net, start_positions(net))
+    if net.start == "as_written":
+        positions, note = start_positions(net), "started as written, at rest"
+    else:
+        positions, note = statics.equilibrium(net, start_positions(net))
     states = {ln.name: statics.line_ends(net, ln, positions[ln.a], positions[ln.b]) for ln in net.lines}
     dt = net.timestep if net.timestep is not None else timestep_for(net, states, water)
     spec = mujoco.MjSpec()
@@ -240,7 +244,7 @@ def simulate(net: Network, progress=None) -> tuple[NetworkRun, np.ndarray]:
     SimulationDiverged."""
     r = build(net)
     try:
-        if net.settle > 0:
+        if net.settle > 0 and net.start == "steady":
             settle(r, net.settle)
         every = max(1, round(net.output_interval / r.timestep))
         total = max(1, round(net.duration / r.timestep))

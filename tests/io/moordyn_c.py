@@ -24,6 +24,50 @@ def _cwd(folder):
         os.chdir(old)
 
 
+def _scratch(fn):
+    """``fn(path)`` run on a copy of ``path``'s folder (MoorDyn-C writes its .log and .out beside the file)."""
+    def wrapped(path, *args):
+        src = Path(path).resolve()
+        scratch = Path(tempfile.mkdtemp(prefix="moordyn-c-"))
+        shutil.copytree(src.parent, scratch / "run")
+        try:
+            return fn(scratch / "run" / src.name, *args)
+        finally:
+            shutil.rmtree(scratch, ignore_errors=True)
+    return wrapped
+
+
+@_scratch
+def run_along(path, duration: float, every: float) -> dict:
+    """Run ``path`` in MoorDyn-C (its initial-condition solver, then its ``dtM``) for ``duration``
+    s and return, every ``every`` s, ``time_s``, each free point's position (``point<n>_x`` ...,
+    m) and each line's end tensions (``line<n>_A_tension``, ``line<n>_B_tension``: the end
+    segments' tension, N), as arrays."""
+    with _cwd(path.parent):
+        s = moordyn.Create(str(path))
+        try:
+            moordyn.Init(s, np.zeros(0), np.zeros(0))  # (no coupled points: these files have none)
+            points = {i + 1: moordyn.GetPoint(s, i + 1) for i in range(moordyn.GetNumberPoints(s))}
+            points = {i: p for i, p in points.items() if moordyn.GetPointType(p) == moordyn.POINT_TYPE_FREE}
+            lines = {i + 1: moordyn.GetLine(s, i + 1) for i in range(moordyn.GetNumberLines(s))}
+            out, t = {}, 0.0
+            for _ in range(round(duration / every)):
+                moordyn.Step(s, np.zeros(0), np.zeros(0), t, every)
+                t += every
+                row = {"time_s": t}
+                for i, p in points.items():
+                    row.update(zip((f"point{i}_{k}" for k in "xyz"), moordyn.GetPointPos(p)))
+                for i, ln in lines.items():
+                    row[f"line{i}_A_tension"] = np.linalg.norm(moordyn.GetLineNodeTen(ln, 0))
+                    row[f"line{i}_B_tension"] = np.linalg.norm(moordyn.GetLineNodeTen(ln, moordyn.GetLineN(ln)))
+                for k, v in row.items():
+                    out.setdefault(k, []).append(v)
+            return {k: np.array(v) for k, v in out.items()}
+        finally:
+            moordyn.Close(s)
+
+
+@_scratch
 def end_loads(path, duration: float, window: float) -> dict:
     """Run ``path`` in MoorDyn-C (its own initial-condition solver, then ``duration`` s at its
     ``dtM``) and return {line number: (mean force on the support at end A, at end B, final
@@ -31,17 +75,6 @@ def end_loads(path, duration: float, window: float) -> dict:
     segment's pull (``GetLineNodeTen`` of an end node points along the line from A to B), the end
     node's weight with buoyancy and its seabed reaction, i.e. what the line pulls its support with
     (at a coupled point this is MoorDyn's own ``GetPointForce``, to 0.1 %)."""
-    src = Path(path).resolve()
-    scratch = Path(tempfile.mkdtemp(prefix="moordyn-c-"))  # (MoorDyn-C writes its .log and .out beside the file)
-    shutil.copytree(src.parent, scratch / "run")
-    path = scratch / "run" / src.name
-    try:
-        return _end_loads(path, duration, window)
-    finally:
-        shutil.rmtree(scratch, ignore_errors=True)
-
-
-def _end_loads(path, duration, window):
     with _cwd(path.parent):
         s = moordyn.Create(str(path))
         try:
