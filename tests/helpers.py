@@ -6,6 +6,8 @@ import math
 import mujoco
 import numpy as np
 
+from mjtether.cable import builder
+
 SMALL = """
 [simulation]
 duration = {duration}
@@ -38,7 +40,13 @@ def pose_errors(run) -> tuple[float, float]:
     heading (the scenario's heading plus the commanded turn rate integrated)), degrees."""
     _, yaw, _, R = run.robot_state()
     rot = np.zeros(9)
-    mujoco.mju_quat2Mat(rot, run.sim.model.geom("seabed").quat)
+    if run.scene.grid is not None:  # a bathymetry grid: the plane fitted to it under the walker
+        from mjtether.scenario.scene import WALKER_PATCH
+        x, y = run.sim.data.xpos[run.torso][:2]
+        slope, heading = run.scene.grid.plane_at(x, y, WALKER_PATCH)
+        mujoco.mju_quat2Mat(rot, np.array(builder.slope_quat(slope, heading)))
+    else:
+        mujoco.mju_quat2Mat(rot, run.sim.model.geom("seabed").quat)
     normal = rot[[2, 5, 8]]
     tilt = math.degrees(math.acos(min(1.0, float(R[:, 2] @ normal))))
     heading = math.degrees((yaw - run.heading_ref + math.pi) % (2 * math.pi) - math.pi)

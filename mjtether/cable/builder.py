@@ -225,25 +225,62 @@ def seabed_height(water: WaterColumn, x, y, slope: float = 0.0, slope_heading: f
     return water.seabed_z + math.tan(slope) * along
 
 
+def slope_quat(slope: float, slope_heading: float) -> list:
+    """The quaternion (w, x, y, z) that turns +z onto the normal of a seabed rising at ``slope``
+    (rad) towards ``slope_heading`` (rad from +x towards +y)."""
+    # rotate +z onto the normal (-sin a cos h, -sin a sin h, cos a): by a about (sin h, -cos h, 0)
+    c, s_ = math.cos(slope / 2), math.sin(slope / 2)
+    return [c, s_ * math.sin(slope_heading), -s_ * math.cos(slope_heading), 0.0]
+
+
 def add_seabed(spec: mujoco.MjSpec, water: WaterColumn, *, friction: float = 0.6, size: float = 0.0,
                rgba=(0.45, 0.4, 0.3, 1.0), name: str = "seabed", slope: float = 0.0,
-               slope_heading: float = 0.0) -> mujoco.MjsGeom:
-    """The seabed: a plane through z = -water.depth at the origin, tilted by ``slope`` (rad, in
-    [0, 45 deg)) so that it rises towards ``slope_heading`` (see ``seabed_height``). Robots
-    (contype bit 1) and tethers built with ``seabed_friction`` (bit 2) rest on it. ``size`` is
-    the half-width drawn (0: infinite)."""
+               slope_heading: float = 0.0, point=None) -> mujoco.MjsGeom:
+    """The seabed: a plane through z = -water.depth at the origin (or through ``point``, m),
+    tilted by ``slope`` (rad, in [0, 45 deg)) so that it rises towards ``slope_heading`` (see
+    ``seabed_height``). Robots (contype bit 1) and tethers built with ``seabed_friction`` (bit 2)
+    rest on it. ``size`` is the half-width drawn (0: infinite)."""
     if not isinstance(water, WaterColumn):
         raise ValueError(f"water must be a WaterColumn, got {type(water).__name__}")
     _checks.non_negative("seabed.friction", friction)
     _checks.in_range("seabed.slope", slope, 0.0, math.radians(45.0) - 1e-9, "rad")
     _checks.finite("seabed.slope_heading", slope_heading)
-    # rotate +z onto the normal (-sin a cos h, -sin a sin h, cos a): by a about (sin h, -cos h, 0)
-    c, s_ = math.cos(slope / 2), math.sin(slope / 2)
-    quat = [c, s_ * math.sin(slope_heading), -s_ * math.cos(slope_heading), 0.0]
+    pos = [0.0, 0.0, water.seabed_z] if point is None else [float(v) for v in point]
     return spec.worldbody.add_geom(
-        name=name, type=mujoco.mjtGeom.mjGEOM_PLANE, pos=[0.0, 0.0, water.seabed_z], quat=quat,
+        name=name, type=mujoco.mjtGeom.mjGEOM_PLANE, pos=pos, quat=slope_quat(slope, slope_heading),
         size=[size, size, 1.0], friction=[float(friction), 0.005, 0.0001], rgba=list(rgba),
         contype=ROBOT_CONTACT_BIT, conaffinity=ROBOT_CONTACT_BIT | TETHER_CONTACT_BIT, condim=3)
+
+
+def add_seabed_grid(spec: mujoco.MjSpec, bathymetry, *, friction: float = 0.6, rgba=(0.45, 0.4, 0.3, 1.0),
+                    name: str = "seabed", base: float = 1.0) -> mujoco.MjsGeom:
+    """The seabed as a MuJoCo height field over ``bathymetry`` (``physics.bathymetry.Bathymetry``):
+    its grid nodes are the field's (rows along y, columns along x), a solid ``base`` m thick
+    under its lowest point. Robots and tethers rest on it as on ``add_seabed``'s plane; outside
+    the grid there is no seabed."""
+    _checks.non_negative("seabed.friction", friction)
+    b = bathymetry
+    zmin, zrange = float(b.z.min()), max(float(np.ptp(b.z)), 1e-6)
+    x0, x1, y0, y1 = b.bounds
+    spec.add_hfield(name=name, size=[(x1 - x0) / 2, (y1 - y0) / 2, zrange, base], nrow=len(b.y), ncol=len(b.x),
+                    userdata=((b.z - zmin) / zrange).ravel().tolist())
+    return spec.worldbody.add_geom(
+        name=name, type=mujoco.mjtGeom.mjGEOM_HFIELD, hfieldname=name, pos=[(x0 + x1) / 2, (y0 + y1) / 2, zmin],
+        friction=[float(friction), 0.005, 0.0001], rgba=list(rgba),
+        contype=ROBOT_CONTACT_BIT, conaffinity=ROBOT_CONTACT_BIT | TETHER_CONTACT_BIT, condim=3)
+
+
+def grid_of(model: mujoco.MjModel, geom: int):
+    """The ``Bathymetry`` of height-field geom ``geom`` of a compiled model (the inverse of
+    ``add_seabed_grid``)."""
+    from mjtether.physics.bathymetry import Bathymetry
+    h = int(model.geom_dataid[geom])
+    nrow, ncol = int(model.hfield_nrow[h]), int(model.hfield_ncol[h])
+    rx, ry, zrange, _ = model.hfield_size[h]
+    adr = int(model.hfield_adr[h])
+    cx, cy, z0 = model.geom_pos[geom]
+    z = z0 + zrange * model.hfield_data[adr:adr + nrow * ncol].reshape(nrow, ncol)
+    return Bathymetry(np.linspace(cx - rx, cx + rx, ncol), np.linspace(cy - ry, cy + ry, nrow), z)
 
 
 # ------------------------------------------------------------------------------ builder

@@ -1,6 +1,7 @@
-"""Seabed friction of a bound tether: the seabed plane it rests on, its nodes' stick points (in
-MuJoCo's ``userdata``), and the Coulomb friction of ``seabed.seabed_friction`` on the deployed
-nodes, or its compiled twin. Units SI, world frame.
+"""Seabed friction of a bound tether: the seabed it rests on (a plane, or a height field whose
+local tangent plane under each node is taken), its nodes' stick points (in MuJoCo's
+``userdata``), and the Coulomb friction of ``seabed.seabed_friction`` on the deployed nodes, or
+its compiled twin. Units SI, world frame.
 """
 
 from __future__ import annotations
@@ -12,7 +13,7 @@ import numpy as np
 
 from mjtether.physics import compiled
 
-from .builder import TETHER_CONTACT_BIT
+from .builder import TETHER_CONTACT_BIT, grid_of
 from .drum import Drum
 from .layout import CableLayout
 from .seabed import CONTACT_TOLERANCE, STICK_DAMPING, STICK_STIFFNESS, seabed_friction
@@ -21,10 +22,13 @@ from .seabed import CONTACT_TOLERANCE, STICK_DAMPING, STICK_STIFFNESS, seabed_fr
 class SeabedContact:
     """The seabed friction of a bound tether. ``seabed``: (a point on the seabed plane, its unit
     normal, the cable's submerged weight per metre there (N/m) times the cosine of its slope),
-    or None for a tether without seabed friction (MuJoCo's contact is then all)."""
+    or None for a tether without seabed friction (MuJoCo's contact is then all). On a height
+    field (``grid``, a ``Bathymetry``), the point and normal are None and are each node's own,
+    under it, at each call, and the weight is not yet times the cosine."""
 
     def __init__(self, layout: CableLayout, drum: Drum):
         self.layout, self.drum = layout, drum
+        self.grid = None
         self.seabed = self._find_seabed()
 
     def _find_seabed(self):
@@ -36,19 +40,25 @@ class SeabedContact:
         model, tm, water = L.model, L.tm, self.drum.water
         if not tm.seabed_friction or tm.userdata_adr < 0:  # (no friction: MuJoCo's contact is all)
             return None
-        planes = np.flatnonzero((model.geom_type == int(mujoco.mjtGeom.mjGEOM_PLANE))
-                                & (model.geom_conaffinity & TETHER_CONTACT_BIT != 0) & (model.geom_bodyid == 0)).tolist()
+        seabed = (model.geom_conaffinity & TETHER_CONTACT_BIT != 0) & (model.geom_bodyid == 0)
+        planes = np.flatnonzero(seabed & ((model.geom_type == int(mujoco.mjtGeom.mjGEOM_PLANE))
+                                          | (model.geom_type == int(mujoco.mjtGeom.mjGEOM_HFIELD)))).tolist()
         if not planes:
             return None
         if len(planes) > 1:
-            raise ValueError("a tether with seabed_friction rests on one seabed plane; the model has "
-                             f"{len(planes)} (geoms {planes})")
+            raise ValueError("a tether with seabed_friction rests on one seabed (a plane or a height field); the "
+                             f"model has {len(planes)} (geoms {planes})")
         g = planes[0]
-        R = np.zeros(9)
-        mujoco.mju_quat2Mat(R, model.geom_quat[g])
-        normal = R.reshape(3, 3)[:, 2].copy()
-        point = model.geom_pos[g].copy()
-        rho = float(water.rho([point[2]])[0])
+        if model.geom_type[g] == int(mujoco.mjtGeom.mjGEOM_HFIELD):
+            self.grid = grid_of(model, g)
+            point, normal = None, np.array([0.0, 0.0, 1.0])  # (each node's own, in kernel)
+            rho = float(water.rho([float(self.grid.z.mean())])[0])
+        else:
+            R = np.zeros(9)
+            mujoco.mju_quat2Mat(R, model.geom_quat[g])
+            normal = R.reshape(3, 3)[:, 2].copy()
+            point = model.geom_pos[g].copy()
+            rho = float(water.rho([point[2]])[0])
         if L.makeup is not None:  # each node's wet weight: half its elements' and its point load's
             ww = L.makeup.element_wet_weight(rho, water.gravity) * L.makeup.element_length
             self.node_wet = (np.r_[0.0, ww] * 0.5 + np.r_[ww, 0.0] * 0.5 + L.makeup.node_wet_weight(
@@ -67,11 +77,22 @@ class SeabedContact:
         stick[:k] = np.nan  # nodes on the drum
         return f
 
+    def planes(self, x):
+        """The seabed's plane under nodes ``x`` (n, 3) m: (a point on it, its unit normal), each
+        (3,) for a plane or (n, 3) for a height field (its tangent plane under each node)."""
+        point, normal, _ = self.seabed
+        if self.grid is None:
+            return point, normal
+        feet = x.copy()
+        feet[:, 2] = self.grid.height(x[:, 0], x[:, 1])
+        return feet, self.grid.normal(x[:, 0], x[:, 1])
+
     def kernel(self, x, v, stick, preload=None):
         """``seabed.seabed_friction`` for the deployed nodes; with ``preload`` (N per node), the
         stick points are first placed so that the springs pull with it (up to mu N)."""
         L, dr = self.layout, self.drum
-        point, normal, w = self.seabed
+        _, _, w = self.seabed
+        point, normal = self.planes(x)
         k = dr.first
         if L.makeup is not None:  # (a buoyant node does not press on the seabed)
             normal_force = np.maximum(self.node_wet[k:], 0.0)
@@ -87,10 +108,12 @@ class SeabedContact:
         dt = L.model.opt.timestep
         stiffness = (STICK_STIFFNESS / dt ** 2) * mass
         damping = (2.0 * STICK_DAMPING * math.sqrt(STICK_STIFFNESS) / dt) * mass  # 2 zeta sqrt(k m)
+        if self.grid is not None:  # the weight's part pressing on the local slope
+            normal_force = normal_force * normal[:, 2]
         if preload is not None:
-            foot = x - ((x - point) @ normal)[:, None] * normal
+            foot = x - np.sum((x - point) * normal, axis=-1)[:, None] * normal
             stick = foot + preload / stiffness[:, None]
-        if L.fast is not None:
+        if L.fast is not None and self.grid is None:
             m = len(x)
             force, new = L.fast["friction"][:m], L.fast["stick"][:m]
             compiled.seabed_friction(x, v, stick, point, normal, L.spec.diameter / 2, normal_force,
@@ -122,8 +145,8 @@ class SeabedContact:
         total[:-1] += T[:, None] * t
         total[1:] -= T[:, None] * t
         total += m.body_mass[L.bids[k:], None] * m.opt.gravity
-        point, normal, _ = self.seabed
-        need = -(total - (total @ normal)[:, None] * normal)  # what friction must hold, in the seabed's plane
+        _, normal = self.planes(x)
+        need = -(total - np.sum(total * normal, axis=-1)[:, None] * normal)  # what friction must hold, in the seabed's plane
         need[[0, -1]] = 0.0  # the ends are held by their supports
         stick = data.userdata[self.stick].reshape(-1, 3)
         stick[:] = np.nan

@@ -184,11 +184,11 @@ class CableLoads:
 
     def native_table(self):
         """This tether's arrays for the native callback (``native``, slots ``T_*``), or None where
-        its loads need Python (the NumPy kernels, or a water profile the compiled kernels do not
-        know). The arrays are the drum's own, updated in place as the cable pays out."""
+        its loads need Python (the NumPy kernels, a water profile the compiled kernels do not
+        know, or friction on a height field). The arrays are the drum's own, updated in place as the cable pays out."""
         L, dr, contact = self.layout, self.drum, self.contact
         c = L.fast
-        if c is None or c["water"] is None:
+        if c is None or c["water"] is None or contact.grid is not None:  # (a height field's friction: NumPy)
             return None
         dkind, dp, ckind, cp = c["water"]
         mk, n = L.makeup, L.n

@@ -45,12 +45,13 @@ def seabed_friction(x: np.ndarray, v: np.ndarray, stick: np.ndarray, *, point: n
                     radius: float, normal_force: np.ndarray, mu: float, stiffness: np.ndarray,
                     damping: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Friction forces on nodes ``x`` (n, 3) m moving at ``v`` (n, 3) m/s over the seabed plane
-    through ``point`` with unit ``normal`` (pointing up into the water).
+    through ``point`` with unit ``normal`` (pointing up into the water): each (3,), or (n, 3)
+    for each node's own plane (a height field's tangent plane under it).
 
     ``stick`` (n, 3): the stick points of the last call (NaN where a node was off the seabed);
     ``normal_force`` (n,) N; ``stiffness`` (n,) N/m and ``damping`` (n,) N s/m of the stick springs.
     Returns (forces (n, 3) N, in the seabed's plane, zero off the seabed; the new stick points)."""
-    height = (x - point) @ normal
+    height = np.sum((x - point) * normal, axis=-1)
     on = (height <= (1.0 + 2.0 * CONTACT_TOLERANCE) * radius) & (normal_force > 0.0)
     force, new = np.zeros_like(x), np.full_like(x, np.nan)
     idx = np.flatnonzero(on)
@@ -60,7 +61,8 @@ def seabed_friction(x: np.ndarray, v: np.ndarray, stick: np.ndarray, *, point: n
     # computed whole and the ones off the seabed masked at the end: cheaper in NumPy than
     # selecting the ones on it
     lo, hi = idx[0], idx[-1] + 1
-    force[lo:hi], new[lo:hi] = _stick_slip(x[lo:hi], v[lo:hi], stick[lo:hi], height[lo:hi], on[lo:hi], normal,
+    nrm = normal[lo:hi] if np.ndim(normal) == 2 else normal
+    force[lo:hi], new[lo:hi] = _stick_slip(x[lo:hi], v[lo:hi], stick[lo:hi], height[lo:hi], on[lo:hi], nrm,
                                            mu * normal_force[lo:hi], stiffness[lo:hi], damping[lo:hi])
     return force, new
 
@@ -68,7 +70,7 @@ def seabed_friction(x: np.ndarray, v: np.ndarray, stick: np.ndarray, *, point: n
 def _stick_slip(x, v, stick, height, on, normal, limit, stiffness, damping):
     """``seabed_friction`` for a run of nodes, ``on`` those on the seabed; ``limit`` = mu N."""
     xt = x - height[:, None] * normal  # the node's foot on the seabed
-    vt = v - (v @ normal)[:, None] * normal
+    vt = v - np.sum(v * normal, axis=-1)[:, None] * normal
     s = np.where(np.isnan(stick), xt, stick)  # a node that lands sticks where it lands
     f = stiffness[:, None] * (s - xt)
     # beyond the limit the stick point is dragged along: the spring stays at mu N

@@ -558,7 +558,7 @@ def load_any(path, overrides=()):
             return from_dict(data, name, overrides)
         except NetworkError as exc:
             raise _scenario_error(exc) from None
-    return load_scenario(text=text, name=name, overrides=overrides)
+    return load_scenario(path, text=text, name=name, overrides=overrides)
 
 
 from .moordyn_write import current_profile, write, write_network  # noqa: F401 - the writers, re-exported

@@ -247,21 +247,26 @@ def profile_figure(rows: np.ndarray, nodes: np.ndarray, sc):
     w = sc.water
     slope, heading = math.radians(w.seabed_slope_deg), math.radians(w.seabed_slope_heading_deg)
     water = WaterColumn(depth=w.depth)  # only its seabed height is used: z = -depth at x = y = 0
+    grid = w.grid
+
+    def height(x, y):  # (the bathymetry grid's, or the plane's)
+        return grid.height(x, y) if grid is not None else seabed_height(water, x, y, slope, heading)
     x_all = np.concatenate([nodes[..., 0].ravel(), [ship[0], robot[0]]])
     x0, x1 = float(x_all.min()), float(x_all.max())
     pad = 0.05 * max(x1 - x0, 1.0)
     xs = np.linspace(x0 - pad, x1 + pad, 101)
     y_ref = float(robot[1])
-    seabed = seabed_height(water, xs, np.full_like(xs, y_ref), slope, heading)
+    seabed = height(xs, np.full_like(xs, y_ref))
     y_lo, y_hi = float(nodes[..., 1].min()), float(nodes[..., 1].max())
-    lo = seabed_height(water, xs, np.full_like(xs, y_lo), slope, heading)
-    hi = seabed_height(water, xs, np.full_like(xs, y_hi), slope, heading)
+    lo = height(xs, np.full_like(xs, y_lo))
+    hi = height(xs, np.full_like(xs, y_hi))
     if np.max(np.abs(hi - lo)) > 1e-3:
         side.fill_between(xs, np.minimum(lo, hi), np.maximum(lo, hi), color="saddlebrown", alpha=0.2, lw=0,
                           label=f"seabed for y in [{y_lo:.0f}, {y_hi:.0f}] m")
     side.plot(xs, seabed, color="saddlebrown", lw=2, gid="seabed",
               label=f"seabed at y = {y_ref:.1f} m" + (f" (slope {w.seabed_slope_deg:g}\N{DEGREE SIGN})"
-                                                      if w.seabed_slope_deg else ""))
+                                                      if w.seabed_slope_deg else " (bathymetry grid)" if grid
+                                                      else ""))
     side.axhline(0.0, color="steelblue", lw=1, gid="surface", label="water surface")
     side.plot([ship[0]], [ship[2]], marker=_SHIP_MARKER, ms=16, ls="none", color="0.3", gid="ship",
               label=f"ship (fairlead, t = {times[-1]:.0f} s)")

@@ -17,7 +17,9 @@ def load_scenario(path=None, *, text: str | None = None, data: dict | None = Non
     """A checked ``Scenario`` from a TOML file ``path``, TOML ``text`` or ``data`` (the nested
     dict TOML would give); with none of them, the defaults. ``overrides``: ``"key.path=value"``
     strings (values in TOML syntax; a bare word is a string), applied before checking, as
-    ``mjtether run --set`` does. ``name`` labels errors (default: the file name)."""
+    ``mjtether run --set`` does. ``name`` labels errors (default: the file name). A relative
+    ``water.bathymetry`` in a file is taken beside the file; one given in ``overrides``, from the
+    working folder."""
     if name is None:
         name = str(path) if path is not None else "<text>" if text is not None else "<data>"
     if data is not None:
@@ -26,6 +28,10 @@ def load_scenario(path=None, *, text: str | None = None, data: dict | None = Non
         raw = _parse(name, _read(name, path) if text is None else text)
     else:
         raw = {}
+    water = raw.get("water")
+    if path is not None and isinstance(water, dict) and isinstance(water.get("bathymetry"), str) \
+            and water["bathymetry"] and not Path(water["bathymetry"]).is_absolute():
+        water["bathymetry"] = str(Path(path).resolve().parent / water["bathymetry"])  # (beside the scenario)
     for item in overrides:
         _override(raw, item)
     return build(Scenario, raw, name)

@@ -106,7 +106,12 @@ class ScenarioRun:
                             "the cable fall into place while the robot is held")
         else:
             settle = False
-        if settle and self.walker:  # held in place while the cable settles
+        # a steady state solved on a level seabed, lying above a sloped or gridded one, falls onto it
+        drape = self.tethered and not empty and not settle and start.floats_over_seabed(scene, self.initial.nodes)
+        if drape:
+            self.initial_note += (" on a level seabed at the tow point's depth, then settled onto the seabed with "
+                                  "the robot held")
+        if (settle or drape) and self.walker:  # held in place while the cable settles
             hold = spec.add_equality(name="walker/hold", type=mujoco.mjtEq.mjEQ_WELD, objtype=mujoco.mjtObj.mjOBJ_BODY,
                                      name1="walker/torso")
             hold.active = True
@@ -156,7 +161,7 @@ class ScenarioRun:
                                               interpolate=r.setpoint_interpolation == "linear",
                                               pitch_schedule=None if r.pitch_schedule is None else
                                               [(t, math.radians(a)) for t, a in r.pitch_schedule])
-            if self.initial is not None:  # the steady state's seabed friction, carried into the run
+            if self.initial is not None and not drape:  # the steady state's seabed friction, carried into the run
                 self.sim.tether().preload_friction(self.sim.data, self.initial.tension)
             self.bt = self.sim.tether() if self.tethered else None
             if empty:
@@ -172,7 +177,7 @@ class ScenarioRun:
             ship = self.ship if self.ship_pilot is None else self.ship_pilot
             self.controllers = [c for c in (self.gait_drive, self.pilot, ship, winch) if c is not None]
             if self.tethered and not empty:  # (alone, or on an empty drum, a vehicle starts as placed: there
-                start.preroll(self, settle)   # are no contacts to load)
+                start.preroll(self, settle or drape, until_still=drape)   # are no contacts to load)
         except BaseException:
             self.sim.close()  # a run that cannot start leaves nothing registered
             raise

@@ -25,6 +25,7 @@ from mjtether.cable.makeup import LineMakeup
 from mjtether.cable.tether import TetherSpec
 from mjtether.cable.winch import Winch
 from mjtether.physics import water as wm
+from mjtether.physics.bathymetry import Bathymetry
 from mjtether.physics.rigidbody import add_body_hydro
 from mjtether.scenario import Scenario
 from mjtether.vehicles.files import VehicleSpec, build_vehicle, load_vehicle
@@ -35,6 +36,9 @@ from .controllers import Ship
 
 WALKER_STAND_HEIGHT = 0.9
 """Height (m) of the walker's torso above the seabed when it is placed."""
+WALKER_PATCH = 2.0
+"""Radius (m) of the patch of a bathymetry grid that the walker's plane is fitted to (its legs
+span about 1.6 m)."""
 VEHICLE = "vehicle"
 """Name of a vehicle robot's body (its actuators and sites are prefixed ``vehicle/``)."""
 
@@ -107,6 +111,8 @@ class Scene:
     bodies: list = field(default_factory=list)  # rigid-body hydrodynamics (a vessel, the walker's torso, a vehicle)
     vehicle: VehicleSpec | None = None  # a vehicle robot's parameter file
     vessel: VehicleSpec | None = None  # the surface vessel carrying the winch (ship.vessel), if any
+    grid: Bathymetry | None = None  # the seabed from a bathymetry grid (water.bathymetry); slope is then its
+    # plane fitted around the robot's start (the walker stands square to it)
 
     @property
     def line(self):
@@ -132,8 +138,15 @@ class Scene:
         return np.array([x, y, 0.0]) + R.reshape(3, 3) @ np.asarray(self.vessel.tow_point, dtype=float)
 
     def seabed_z(self, x, y):
-        """Height (m) of the (possibly sloped) seabed at ``x``, ``y`` (m)."""
+        """Height (m) of the (possibly sloped, or gridded) seabed at ``x``, ``y`` (m)."""
+        if self.grid is not None:
+            return self.grid.height(x, y)
         return builder.seabed_height(self.water, x, y, self.slope, self.slope_heading)
+
+    @property
+    def tilt(self) -> np.ndarray:
+        """The quaternion turning +z onto the seabed's normal (``slope``, ``slope_heading``)."""
+        return np.array(builder.slope_quat(self.slope, self.slope_heading))
 
     def anchor_point(self) -> np.ndarray:
         """An anchor's tow point (m, world): the scenario's position, the cable's axis held at
@@ -150,13 +163,18 @@ def build_scene(sc: Scenario) -> Scene:
     run."""
     water = water_from(sc)
     wsc = sc.water
-    slope, slope_heading = math.radians(wsc.seabed_slope_deg), math.radians(wsc.seabed_slope_heading_deg)
-    spec = seabed_spec(water, sc.simulation.timestep, wsc.seabed_friction, slope, slope_heading)
-    ship = Ship.from_scenario(sc)
     r = sc.robot
     walker = r.type == "walker"
+    grid = wsc.grid
+    if grid is not None:  # the plane of the seabed the walker stands on (or the anchor lies on)
+        x, y = r.start if walker else r.position[:2]
+        slope, slope_heading = grid.plane_at(x, y, WALKER_PATCH)
+    else:
+        slope, slope_heading = math.radians(wsc.seabed_slope_deg), math.radians(wsc.seabed_slope_heading_deg)
+    spec = seabed_spec(water, sc.simulation.timestep, wsc.seabed_friction, slope, slope_heading, grid=grid)
+    ship = Ship.from_scenario(sc)
     scene = Scene(sc, spec, water, tether_from(sc), makeup_from(sc), winch_from(sc), ship, slope, slope_heading,
-                  walker, math.radians(r.heading_deg) if r.type in ("walker", "vehicle") else None)
+                  walker, math.radians(r.heading_deg) if r.type in ("walker", "vehicle") else None, grid=grid)
     if sc.ship.vessel:  # a surface vessel carries the winch; its tow point is the fairlead
         scene.vessel = load_vehicle(sc.ship.vessel)
         x, y = sc.ship.position
@@ -189,29 +207,34 @@ def vehicle_tow_point(scene: Scene) -> np.ndarray:
 
 
 def seabed_spec(water: wm.WaterColumn, timestep: float, friction: float, slope: float = 0.0,
-                slope_heading: float = 0.0) -> mujoco.MjSpec:
+                slope_heading: float = 0.0, *, grid: Bathymetry | None = None, point=None) -> mujoco.MjSpec:
     """A scenario's spec before its ship and robot: the options (``timestep`` in s, the
-    implicit-fast integrator, the water's gravity) and the seabed (``builder.add_seabed``)."""
+    implicit-fast integrator, the water's gravity) and the seabed: the height field of ``grid``
+    (``builder.add_seabed_grid``), or the plane (``builder.add_seabed``, through ``point``)."""
     spec = mujoco.MjSpec()
     spec.option.timestep = timestep
     spec.option.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST
     spec.option.gravity = [0.0, 0.0, -water.gravity]
     spec.modelname = "mjtether_scenario"
-    builder.add_seabed(spec, water, friction=friction, slope=slope, slope_heading=slope_heading)
+    if grid is not None:
+        builder.add_seabed_grid(spec, grid, friction=friction)
+    else:
+        builder.add_seabed(spec, water, friction=friction, slope=slope, slope_heading=slope_heading, point=point)
     return spec
 
 
 def add_walker(scene: Scene) -> None:
     """Attach the walker at the scenario's start, facing the commanded heading (see ``place_walker``)."""
     x, y = scene.sc.robot.start
-    scene.bodies.append(place_walker(scene.spec, (x, y, float(scene.seabed_z(x, y))), scene.heading))
+    scene.bodies.append(place_walker(scene.spec, (x, y, float(scene.seabed_z(x, y))), scene.heading, scene.tilt))
 
 
-def place_walker(spec: mujoco.MjSpec, seabed_point, heading: float):
+def place_walker(spec: mujoco.MjSpec, seabed_point, heading: float, tilt=None):
     """Attach the walker (``walker/`` prefix) over ``seabed_point`` (m, world; on the seabed
     geom ``seabed``), its torso ``WALKER_STAND_HEIGHT`` over the seabed, its legs square to a
-    sloped seabed, facing ``heading`` (rad from +x); returns its rigid-body hydrodynamics."""
-    tilt = np.array(spec.geom("seabed").quat)
+    sloped seabed (``tilt``: the quaternion turning +z onto its normal; default: the seabed
+    plane's own), facing ``heading`` (rad from +x); returns its rigid-body hydrodynamics."""
+    tilt = np.array(spec.geom("seabed").quat if tilt is None else tilt)
     quat = np.zeros(4)
     mujoco.mju_mulQuat(quat, tilt, heading_quat(heading))
     normal = np.zeros(9)

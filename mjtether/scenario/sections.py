@@ -43,6 +43,9 @@ LINE_TYPES = load_line_types()
 def _default(cls, name: str):
     return next(f.default for f in dataclasses.fields(cls) if f.name == name)
 
+WALKER_REACH = 1.0
+"""How far (m) the walker's feet reach from its centre: it must start that far inside a
+bathymetry grid."""
 MAX_TURN_DEG_S = math.degrees(0.5)
 """The walker's fastest commanded turn (deg/s): its gait's limit, 0.5 rad/s."""
 
@@ -128,7 +131,8 @@ def _check_table(s: Section, columns) -> None:
 @dataclass(frozen=True)
 class Water(Section):
     PATH = "water"
-    depth: float = param(200.0, 0.1, 12000.0, "m", "seabed depth (positive)")
+    depth: float = param(200.0, 0.1, 12000.0, "m", "seabed depth (positive); with bathymetry, the depth the "
+                         "water column's density and current profiles span")
     seabed_friction: float = param(0.6, 0.0, 5.0, "", "Coulomb friction of the seabed (robot feet)")
     seabed_slope_deg: float = param(0.0, 0.0, 30.0, "deg", "seabed slope; depth is the depth at x = y = 0")
     seabed_slope_heading_deg: float = param(0.0, -360.0, 360.0, "deg",
@@ -140,11 +144,45 @@ class Water(Section):
                                   "penetration speed, as MoorDyn's cBot (used with seabed_stiffness; a contact too "
                                   "stiff or too damped for simulation.timestep is refused, naming the step that works)")
     gravity: float = param(9.81, 9.7, 9.9, "m/s^2", "gravitational acceleration (weight and buoyancy)")
+    bathymetry: str = param("", doc="the seabed from a grid file instead of depth and slope (a path, relative to the "
+                            "scenario file): MoorDyn's 3-D seafloor file, or a grid of depths (m, positive down; CSV "
+                            "or .npy, rows along +y, columns along +x) with bathymetry_spacing_m and "
+                            "bathymetry_origin_m; a MuJoCo height field, with no seabed outside it")
+    bathymetry_spacing_m: float = param(0.0, 0.0, 1e5, "m", "a depth grid's spacing between nodes along x and y")
+    bathymetry_origin_m: tuple = param((0.0, 0.0), -1e6, 1e6, "m", "a depth grid's first node (row 0, column 0), "
+                                       "(x, y)", kind="vec2")
     density: Density = section(Density)
     current: Current = section(Current)
 
+    def _check(self):
+        if not self.bathymetry:
+            return
+        if self.seabed_slope_deg != 0.0:
+            self._bad("seabed_slope_deg", "must be 0 with a bathymetry grid (water.bathymetry sets the seabed)")
+        try:
+            self.grid
+        except ValueError as exc:
+            self._bad("bathymetry", str(exc))
+
+    @property
+    def grid(self):
+        """The seabed's ``Bathymetry`` (``mjtether.physics.bathymetry``), or None without one."""
+        if not self.bathymetry:
+            return None
+        from pathlib import Path
+
+        from mjtether.physics import bathymetry
+        if not Path(self.bathymetry).is_file():
+            raise bathymetry.BathymetryError(f"{self.bathymetry}: no such file")
+        if not self.bathymetry_spacing_m and not bathymetry.is_moordyn_seafloor(self.bathymetry):
+            raise bathymetry.BathymetryError(f"{self.bathymetry}: a grid of depths needs water.bathymetry_spacing_m "
+                                             "(m between nodes)")
+        return bathymetry.load(self.bathymetry, self.bathymetry_spacing_m, self.bathymetry_origin_m)
+
     def seabed_z(self, x: float, y: float) -> float:
         """Height (m) of the seabed at (x, y) m."""
+        if self.bathymetry:
+            return float(self.grid.height(x, y))
         h = math.radians(self.seabed_slope_heading_deg)
         return -self.depth + math.tan(math.radians(self.seabed_slope_deg)) * (x * math.cos(h) + y * math.sin(h))
 
@@ -551,6 +589,16 @@ class Scenario(Section):
         def bad(key, value, why):
             raise ConfigError(f"{key} = {value}: {why}", key)
 
+        grid = w.grid
+        if grid is not None:  # (outside the grid there is no seabed)
+            x0, x1, y0, y1 = grid.bounds
+            where = f"outside the bathymetry grid (x {x0:g} to {x1:g} m, y {y0:g} to {y1:g} m)"
+            if r.type == "walker" and not grid.covers(*r.start, margin=WALKER_REACH):
+                bad("robot.start", list(r.start), f"is {where}, or within {WALKER_REACH:g} m of its edge")
+            if r.type != "walker" and not grid.covers(*r.position[:2]):
+                bad("robot.position", list(r.position), f"is {where}")
+            if not grid.covers(*self.ship.position):
+                bad("ship.position", list(self.ship.position), f"is {where}: the cable would run off the seabed")
         if r.type in ("anchor", "vehicle"):
             x, y, z = r.position
             if z < w.seabed_z(x, y) - 1e-6:

@@ -34,7 +34,12 @@ peak, about a mean that moves by 0.2 mm (measured; ``test_starts``). Placed 0.9 
 it was, it sank for 1.2 s, still bounced at 2 s, and the pre-roll then lowered its tow point
 6.5 cm below the one the steady start was solved to."""
 SETTLE_S = 10.0
-"""Seconds a ``start = "settle"`` run lets the cable fall into place with the robot held."""
+"""Seconds a ``start = "settle"`` run lets the cable fall into place with the robot held (and a
+steady start on a level seabed onto a sloped or gridded one, ``floats_over_seabed``)."""
+MAX_SETTLE_S = 40.0
+"""Longest a steady start on a level seabed settles onto a sloped or gridded one (``preroll``)."""
+STILL = 0.01
+"""Fastest a node may move (m/s) for a cable settling onto the seabed to count as settled."""
 REFINE_START = (1, 2, 3, 4)
 """Element counts, in multiples of the tether's, that the steady start is solved with in turn
 until Newton converges (``_solve_start``): where the touchdown sits in a coarse element the
@@ -79,7 +84,7 @@ def stand_walker(scene: Scene, gait_run: Tripod, dt: float):
     stands at the origin facing +x and is moved and turned into place, so the stand is made
     once for every run on the same seabed (an environment's resets, a sweep) and kept; on a
     slope it stands where it starts, facing its heading."""
-    flat = scene.slope == 0.0
+    flat = scene.slope == 0.0 and scene.grid is None
     key = _stand_key(scene, gait_run.period, dt, flat)
     stand = _STANDS.get(key) if key is not None else None
     if stand is None:
@@ -103,7 +108,7 @@ def _stand_key(scene: Scene, period: float, dt: float, flat: bool):
     cannot be hashed)."""
     w = scene.water
     key = (w.depth, w.density, w.gravity, scene.sc.water.seabed_friction, scene.slope, scene.slope_heading, period,
-           dt, STAND_S, CONTROL_HZ)
+           dt, STAND_S, CONTROL_HZ, scene.sc.water.bathymetry)
     if not flat:
         x, y = scene.sc.robot.start
         key += (float(x), float(y), scene.heading)
@@ -118,7 +123,7 @@ def _stand(scene: Scene, period: float, dt: float, origin: np.ndarray, heading: 
     """The walker alone over ``origin`` (m, world, on the scene's seabed), facing ``heading``
     (rad), stepping in place for STAND_S in still water."""
     still = wm.WaterColumn(depth=scene.water.depth, density=scene.water.density, gravity=scene.water.gravity)
-    spec = seabed_spec(still, dt, scene.sc.water.seabed_friction, scene.slope, scene.slope_heading)
+    spec = seabed_spec(still, dt, scene.sc.water.seabed_friction, scene.slope, scene.slope_heading, point=origin)
     hydro = place_walker(spec, origin, heading)
     with Simulation(spec, still, bodies=[hydro]) as sim:
         m, d = sim.model, sim.data
@@ -147,7 +152,7 @@ def _put_back(stand: Stand, scene: Scene):
     """``stand_walker``'s answer: the stand moved to the commanded position and turned about
     the seabed's normal to the commanded heading (it may also have turned or slid a little
     while its feet found the seabed), its torso at rest."""
-    tilt = np.array(scene.spec.geom("seabed").quat)
+    tilt = scene.tilt
     normal = np.zeros(9)
     mujoco.mju_quat2Mat(normal, tilt)
     n = normal[[2, 5, 8]]
@@ -219,6 +224,20 @@ def steady_start(scene: Scene, top, robot, dt: float):
     if below > 2 * radius:
         return None, f"no steady state clear of the sloped seabed (it crosses it by {below:.2f} m)"
     return ss, note
+
+
+def floats_over_seabed(scene: Scene, nodes: np.ndarray) -> bool:
+    """Whether a steady state of ``steady_start`` (solved on a level seabed at the depth under
+    the tow point) lies off the scene's seabed where that is not level (a slope, a bathymetry
+    grid): a node of its laid part (those within a cable radius of its lowest) more than a
+    cable diameter above the seabed under it. Such a start settles onto the seabed first
+    (``preroll``), the robot held."""
+    if scene.slope == 0.0 and scene.grid is None:
+        return False
+    radius = scene.contact_diameter / 2
+    laid = nodes[nodes[:, 2] <= nodes[:, 2].min() + radius]
+    gap = laid[:, 2] - radius / math.cos(scene.slope) - scene.seabed_z(laid[:, 0], laid[:, 1])
+    return bool(gap.max() > 2 * radius)
 
 
 def _solve_start(scene: Scene, water, top, robot, dt, length=None):
@@ -340,13 +359,14 @@ def check_at_fairlead(top, tow_point, position, tol: float = 0.01) -> None:
                           f"{float(np.linalg.norm(gap)):.3g} m away): robot.position = {fix}", "robot.position")
 
 
-def preroll(run, settle: bool) -> None:
+def preroll(run, settle: bool, until_still: bool = False) -> None:
     """Put the walker in its standing pose, then pre-roll ``run`` (a ``runner.ScenarioRun``):
     soft contacts carry the laid cable's (and the walker's) weight only once they are pressed
     in; PREROLL_S of standing still lets them load, then t is reset to 0. A settling start is
     far from equilibrium: it settles for SETTLE_S with finer steps, the walker held (a vehicle
-    flying its first setpoint), then PREROLL_S released. The ship and the winch do not move (a
-    vessel carrying the winch holds its station on its autopilot)."""
+    flying its first setpoint), then PREROLL_S released; ``until_still``: and on, SETTLE_S / 2
+    at a time, until no node moves faster than STILL (up to MAX_SETTLE_S). The ship and the
+    winch do not move (a vessel carrying the winch holds its station on its autopilot)."""
     sim = run.sim
     m, dt = sim.model, sim.model.opt.timestep
     gait = run.gait_drive
@@ -363,13 +383,17 @@ def preroll(run, settle: bool) -> None:
     m.opt.timestep = dt / sub
     try:
         if settle:  # (a vehicle flies its first setpoint meanwhile: it is not held in place)
-            for _ in range(max(1, int(round(SETTLE_S / dt))) * sub):
-                if gait is not None:
-                    gait.drive(dt / sub, 0.0, 0.0)
-                for pilot in (run.pilot, run.ship_pilot):
-                    if pilot is not None:
-                        pilot.update(run, 0.0, dt / sub)
-                sim.step()
+            settled = 0.0
+            while settled < SETTLE_S or (until_still and settled < MAX_SETTLE_S and float(
+                    np.abs(run.bt.layout.v(run.bt.first)).max()) > STILL):
+                for _ in range(max(1, int(round(SETTLE_S / 2 / dt))) * sub):
+                    if gait is not None:
+                        gait.drive(dt / sub, 0.0, 0.0)
+                    for pilot in (run.pilot, run.ship_pilot):
+                        if pilot is not None:
+                            pilot.update(run, 0.0, dt / sub)
+                    sim.step()
+                settled += SETTLE_S / 2
             if gait is not None:
                 sim.data.eq_active[m.equality("walker/hold").id] = 0
         for _ in range(max(1, int(round(PREROLL_S / dt))) * sub):

@@ -56,6 +56,10 @@ def test_every_example_starts_from_a_steady_state_and_upright(path):
     samples, note = check_upright(sc)
     assert note.startswith("quasi-static steady state")
     tilt, heading = np.array(samples).max(axis=0)
+    if sc.water.bathymetry:  # uneven: the torso then follows the ground under its six feet, whose
+        # normal turns by up to 3 deg within the walker's footprint on examples/seabed_patch.csv
+        # (curvatures 0.018 and 0.035 /m over 1 m): upright to the fitted plane at the start only
+        tilt = samples[0][0]
     assert tilt <= 2.0 and heading <= 2.0, (tilt, heading)
 
 
