@@ -31,8 +31,11 @@ TmaxIC, CdScaleIC, threshIC, ICgenDynamic, fileIC; mjtether picks its own stable
 starts from its steady state), FricDamp (mjtether's friction sticks exactly), the output
 options and the OUTPUTS section. Refused, naming the feature and the file's line: rods, line
 failure, SYROPE line types, viscoelastic ('|') or nonlinear (a curve file) EA, BA in N s, VIV
-(Cl != 0), pinned bodies, waves (WaveKin), MoorDyn's current files (Currents), a 3-D seafloor
-(SeafloorFile) and static friction other than kinetic (StatDynFricScale).
+(Cl != 0), pinned bodies, waves (WaveKin), MoorDyn's dynamic current files (Currents 2, 4, 5)
+and static friction other than kinetic (StatDynFricScale). A 3-D seafloor (SeafloorFile, beside
+the file or in the working folder, where MoorDyn-C looks) becomes the seabed's height field.
+MoorDyn-C pushes its nodes straight up from it and rubs them horizontally; mjtether's contact
+and friction act along the seabed's normal and tangent plane, so on a slope they differ.
 
 The run's duration is not in a MoorDyn file: 60 s unless ``--set simulation.duration=...``.
 """
@@ -170,12 +173,13 @@ class Parsed:
     tmax_ic: float
     notes: list
     current: tuple = ((), (), ())  # depths (m, below the surface), speeds (m/s), headings (deg)
+    seafloor: str = ""  # a 3-D seafloor file (its absolute path), or "" for a level seabed
 
 
 def parse(text: str, name: str = "<moordyn>") -> Parsed:
     """Read a MoorDyn v2 file as MoorDyn-C 2.7 reads it; ScenarioError naming the file's line for
     what mjtether cannot represent (rods, VIV, viscoelastic or nonlinear line types, waves,
-    currents, a 3-D seafloor, line failure) or what is not a valid entry."""
+    dynamic currents, line failure) or what is not a valid entry."""
     from mjtether.network import Body, Line, LineType, Point
     sec = _sections(name, text)
     for key, what in _REFUSED_SECTIONS.items():
@@ -219,9 +223,7 @@ def parse(text: str, name: str = "<moordyn>") -> Parsed:
     elif mode != 0:
         raise ScenarioError(f"{name}: line {options['currents'][0]}: Currents = {options['currents'][1]}: dynamic or "
                             "4-D currents are not supported by mjtether (a steady profile, Currents = 1, is)")
-    if "seafloorfile" in options:
-        raise ScenarioError(f"{name}: line {options['seafloorfile'][0]}: SeafloorFile: a 3-D seafloor is not "
-                            "supported by mjtether yet")
+    seafloor = _seafloor(name, *options["seafloorfile"]) if "seafloorfile" in options else ""
     if opt("statdynfricscale", 1.0) != 1.0:
         raise ScenarioError(f"{name}: line {options['statdynfricscale'][0]}: StatDynFricScale = "
                             f"{options['statdynfricscale'][1]}: static and kinetic friction differ; mjtether's "
@@ -347,7 +349,23 @@ def parse(text: str, name: str = "<moordyn>") -> Parsed:
     if depth <= 0:
         raise ScenarioError(f"{name}: line {sec.get('OPTIONS', (1,))[0]}: WtrDpth (the water depth, m) is needed")
     return Parsed(name, types, points, bodies, lines, rows, depth, rho, g, opt("kbot", 3.0e6), opt("cbot", 3.0e5),
-                  opt("frictioncoefficient", 0.0), opt("tmaxic", 120.0), notes, current)
+                  opt("frictioncoefficient", 0.0), opt("tmaxic", 120.0), notes, current, seafloor)
+
+
+def _seafloor(name: str, no: int, value: str) -> str:
+    """The absolute path of a SeafloorFile named on line ``no``: beside the input file, or in the
+    working folder (where MoorDyn-C looks); checked as a bathymetry grid."""
+    from mjtether.physics import bathymetry
+    here = Path(name).parent if name != "<moordyn>" else Path.cwd()
+    found = next((p for p in (here / value, Path.cwd() / value) if p.is_file()), None)
+    if found is None:
+        raise ScenarioError(f"{name}: line {no}: SeafloorFile {value}: no such file beside the input file ({here}) "
+                            f"nor in the working folder ({Path.cwd()}, where MoorDyn-C looks)")
+    try:
+        bathymetry.read_moordyn_seafloor(found)
+    except ValueError as exc:
+        raise ScenarioError(f"{name}: line {no}: SeafloorFile: {exc}") from None
+    return str(found.resolve())
 
 
 CURRENT_FILE = "current_profile.txt"
@@ -440,7 +458,7 @@ def _tree(p: Parsed) -> dict:
     sc: dict = {
         "simulation": {"duration": DEFAULT_DURATION},
         "water": {"depth": p.depth, "density": {"type": "constant", "rho": p.rho}, "gravity": p.gravity,
-                  "seabed_stiffness": p.kbot, "seabed_damping": p.cbot},
+                  "seabed_stiffness": p.kbot, "seabed_damping": p.cbot, "bathymetry": p.seafloor},
         "tether": _tether(name, p, chain),
         "ship": {"mode": "fixed", "position": list(top.position[:2]), "fairlead_z": top.position[2]},
         "winch": {"mode": "fixed"},
@@ -524,6 +542,7 @@ def _network(p: Parsed, overrides=()):
         net = Network(p.name, p.line_types, p.points, tuple(p.lines), bodies=p.bodies, depth=p.depth, rho=p.rho,
                       gravity=p.gravity, seabed_stiffness=p.kbot, seabed_damping=p.cbot, seabed_friction=p.friction,
                       current_depths=p.current[0], current_speeds=p.current[1], current_headings_deg=p.current[2],
+                      bathymetry=p.seafloor,
                       duration=DEFAULT_DURATION, settle=min(p.tmax_ic, MAX_SETTLE),
                       start="as_written" if p.tmax_ic <= 0 else "steady", notes=tuple(p.notes))
         return with_overrides(net, overrides)
@@ -554,6 +573,10 @@ def load_any(path, overrides=()):
     except tomllib.TOMLDecodeError:
         data = {}  # (load_scenario says what is wrong with it)
     if "lines" in data:
+        water = data.get("water")
+        if isinstance(water, dict) and isinstance(water.get("bathymetry"), str) and water["bathymetry"] \
+                and not Path(water["bathymetry"]).is_absolute():
+            water["bathymetry"] = str(Path(path).resolve().parent / water["bathymetry"])  # (beside the file)
         try:
             return from_dict(data, name, overrides)
         except NetworkError as exc:

@@ -5,6 +5,7 @@ and run by MoorDyn-C (``tests/io/test_moordyn.py``, ``tests/io/test_moordyn_file
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 from mjtether.scenario import Scenario, ScenarioError
 
@@ -13,9 +14,7 @@ def write(sc: Scenario) -> str:
     """A MoorDyn v2 input file of a scenario (one line from the anchored robot end to a coupled
     fairlead); ScenarioError naming the key for what MoorDyn cannot express."""
     t, w, r, s = sc.tether, sc.water, sc.robot, sc.ship
-
-    def refuse(key, why):
-        raise ScenarioError(f"{key}: {why}: not expressible in a MoorDyn file", key)
+    refuse = _refuse
 
     if r.type != "anchor":
         refuse("robot.type", f"{r.type!r} (only an anchored end is)")
@@ -28,6 +27,7 @@ def write(sc: Scenario) -> str:
         refuse("water.current", "a current (MoorDyn takes currents from grid files)")
     if w.seabed_slope_deg != 0.0:
         refuse("water.seabed_slope_deg", "a sloped seabed (MoorDyn takes bathymetry from a file)")
+    floor = _seafloor_option(w.bathymetry, refuse)
     if s.mode != "fixed" or s.heave_amplitude != 0.0:
         refuse("ship.mode", "a moving ship (MoorDyn's coupled points move with the coupled program)")
     if sc.winch.mode != "fixed":
@@ -59,10 +59,27 @@ def write(sc: Scenario) -> str:
         f"{w.density.rho!r} rho",
         f"{w.depth!r} WtrDpth",
         f"{t.seabed_friction!r} FrictionCoefficient",
+        *floor,
     ]
     if w.seabed_stiffness > 0:
         lines += [f"{w.seabed_stiffness!r} kBot", f"{w.seabed_damping!r} cBot"]
     return "\n".join(lines + _tail(1)) + "\n"
+
+
+def _refuse(key, why):
+    raise ScenarioError(f"{key}: {why}: not expressible in a MoorDyn file", key)
+
+
+def _seafloor_option(path: str, refuse) -> list:
+    """The option line naming a bathymetry that is MoorDyn's own 3-D seafloor file (its absolute
+    path); a depth grid is refused (MoorDyn reads only its own format)."""
+    from mjtether.physics import bathymetry
+    if not path:
+        return []
+    if not bathymetry.is_moordyn_seafloor(path) or any(c.isspace() for c in str(path)):
+        refuse("water.bathymetry", "a depth grid, or a path with spaces (MoorDyn reads its own 3-D seafloor "
+               "format, named without spaces)")
+    return [f"{Path(path).resolve()} SeafloorFile"]
 
 
 def write_network(net) -> str:
@@ -105,6 +122,7 @@ def write_network(net) -> str:
             f"{net.gravity!r} g", f"{net.rho!r} rho", f"{net.depth!r} WtrDpth", f"{net.seabed_stiffness!r} kBot",
             f"{net.seabed_damping!r} cBot", f"{net.seabed_friction!r} FrictionCoefficient",
             f"{max(net.settle, 1.0)!r} TmaxIC", *(["1 Currents"] if net.current_depths else []),
+            *_seafloor_option(net.bathymetry, _refuse),
             # MoorDyn's explicit step: the smaller of the one its CFL number gives (as its own files set
             # it) and 1 ms (at the CFL's 2.1 ms alone the example network diverges in MoorDyn-C)
             "0.1 CFL", "0.001 dtM",
@@ -194,7 +212,7 @@ def _write_makeup(sc: Scenario, refuse) -> str:
     lines += [f"{i + 1} {name} {i + 1} {i + 2} {length!r} {n} -" for i, (name, length, n) in enumerate(rows)]
     lines += ["---------------------- OPTIONS ------------------------------------------------",
               f"{sc.simulation.timestep!r} dtM", f"{w.gravity!r} g", f"{w.density.rho!r} rho", f"{w.depth!r} WtrDpth",
-              f"{t.seabed_friction!r} FrictionCoefficient"]
+              f"{t.seabed_friction!r} FrictionCoefficient", *_seafloor_option(w.bathymetry, refuse)]
     if w.seabed_stiffness > 0:
         lines += [f"{w.seabed_stiffness!r} kBot", f"{w.seabed_damping!r} cBot"]
     return "\n".join(lines + _tail(len(rows))) + "\n"

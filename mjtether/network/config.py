@@ -160,6 +160,8 @@ class Network:
     +x towards +y; the east and north parts interpolated linearly, constant beyond); the run's
     duration (s), time step (s; None: the largest stable one) and output interval (s); ``settle``
     (s): how long it falls into place, damped, before the run (``mjtether.network.run.settle``);
+    ``bathymetry``: the seabed from a grid file instead (``mjtether.physics.bathymetry``: MoorDyn's
+    3-D seafloor file, or a depth grid with its spacing and first node, m), a MuJoCo height field;
     ``start``: ``"steady"`` (the free points and bodies in equilibrium, ``statics.equilibrium``,
     then settled) or ``"as_written"`` (every point at rest where it is given, each line's own
     steady state between its ends, no settling: a pendulum released from its given angle)."""
@@ -178,6 +180,9 @@ class Network:
     current_depths: tuple = ()
     current_speeds: tuple = ()
     current_headings_deg: tuple = ()
+    bathymetry: str = ""
+    bathymetry_spacing_m: float = 0.0
+    bathymetry_origin_m: tuple = (0.0, 0.0)
     duration: float = 60.0
     timestep: float | None = None
     output_interval: float = 0.1
@@ -205,6 +210,11 @@ class Network:
         if not (len(self.current_depths) == len(self.current_speeds) == len(self.current_headings_deg)):
             raise NetworkError("water.current_depths, current_speeds and current_headings_deg must be as long as "
                                "each other")
+        if self.bathymetry:
+            try:
+                self.grid
+            except ValueError as exc:
+                raise NetworkError(f"water.bathymetry: {exc}") from None
         if not self.lines:
             raise NetworkError("lines: a network needs at least one line")
         names = [ln.name for ln in self.lines]
@@ -223,7 +233,21 @@ class Network:
 
     @property
     def seabed_z(self) -> float:
+        """The level seabed's height (m); see ``seabed_height`` for a bathymetry grid's."""
         return -self.depth
+
+    @property
+    def grid(self):
+        """The seabed's ``Bathymetry`` (``water.bathymetry``), or None for a level seabed."""
+        if not self.bathymetry:
+            return None
+        from mjtether.physics import bathymetry
+        return bathymetry.load(self.bathymetry, self.bathymetry_spacing_m, self.bathymetry_origin_m)
+
+    def seabed_height(self, x, y):
+        """Height (m) of the seabed at (x, y) m: the grid's, or the level seabed's."""
+        grid = self.grid
+        return -self.depth if grid is None else float(grid.height(x, y))
 
     def attached(self, point: str) -> list[tuple[Line, str]]:
         """The lines at ``point``, each with the end (``"a"`` or ``"b"``) that is there."""
@@ -233,7 +257,8 @@ class Network:
 # ------------------------------------------------------------------------------ TOML
 
 _SECTIONS = {"water": {"depth", "rho", "gravity", "seabed_stiffness", "seabed_damping", "seabed_friction",
-                       "current_depths", "current_speeds", "current_headings_deg"},
+                       "current_depths", "current_speeds", "current_headings_deg", "bathymetry",
+                       "bathymetry_spacing_m", "bathymetry_origin_m"},
              "simulation": {"duration", "timestep", "output_interval", "settle", "start"},
              "line_types": None, "points": None, "bodies": None, "lines": None}
 
@@ -304,10 +329,11 @@ def with_overrides(net: Network, overrides=()) -> Network:
         key, eq, val = str(item).partition("=")
         key = key.strip()
         sec, _, field_ = key.partition(".")
-        if not eq or sec not in ("water", "simulation") or field_ not in _SECTIONS[sec] or field_.startswith("current"):
+        if not eq or sec not in ("water", "simulation") or field_ not in _SECTIONS[sec] \
+                or field_.startswith(("current", "bathymetry")):
             raise NetworkError(f"--set {key}: a network takes --set KEY=VALUE with KEY one of "
                                + ", ".join(f"{s}.{k}" for s in ("simulation", "water") for k in sorted(_SECTIONS[s])
-                                         if not k.startswith("current")))
+                                         if not k.startswith(("current", "bathymetry"))))
         if field_ == "start":
             changes[field_] = val.strip()
             continue

@@ -130,7 +130,10 @@ def build(net: Network) -> NetworkRun:
     spec.option.timestep = dt
     spec.option.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST
     spec.option.gravity = [0.0, 0.0, -net.gravity]
-    builder.add_seabed(spec, water, friction=net.seabed_friction)
+    if net.grid is not None:
+        builder.add_seabed_grid(spec, net.grid, friction=net.seabed_friction)
+    else:
+        builder.add_seabed(spec, water, friction=net.seabed_friction)
     hydro = []
     for name, b in net.bodies.items():
         body = spec.worldbody.add_body(name=f"body/{name}", pos=list(b.position), quat=_quat(b.rpy_deg))

@@ -45,7 +45,7 @@ def line_ends(net: Network, line, pa, pb) -> LineState:
     lo, hi = (pa, pb) if low_is_a else (pb, pa)
     span = math.hypot(*(hi - lo)[:2])
     if w > 1e-9 * lt.EA / L and span > 1e-6 * L:
-        on_bottom = lo[2] <= net.seabed_z + 1e-3 * L
+        on_bottom = lo[2] <= net.seabed_height(lo[0], lo[1]) + 1e-3 * L  # (a level seabed at its low end)
         try:
             c = catenary(lo, hi, L, w, EA=lt.EA, cb=net.seabed_friction, seabed=on_bottom)
         except (RuntimeError, ValueError):
@@ -112,7 +112,7 @@ def equilibrium(net: Network, positions: dict) -> tuple[dict, str]:
         return dict(positions), (f"the free points' equilibrium was not found ({sol.message.strip()}; "
                                  f"largest force left {worst:.3g} N): starting from the file's positions")
     pos, _ = forces(sol.x)
-    below = [n for n in free if pos[n][2] < net.seabed_z - 1e-6]
+    below = [n for n in free if pos[n][2] < net.seabed_height(pos[n][0], pos[n][1]) - 1e-6]
     if below:
         return dict(positions), (f"the equilibrium puts point(s) {', '.join(below)} below the seabed: starting "
                                  "from the file's positions")

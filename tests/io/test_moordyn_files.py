@@ -47,7 +47,6 @@ REFUSED = {
     "BodiesAndRods.dat": ("rods", 11),
     "RodHanging.txt": ("rods", 11),
     "RodPinnedFloating.txt": ("rods", 8),
-    "seafloor.txt": ("3-D seafloor", 23),
     "wavekin_current_1.txt": ("waves", 28),
     "wavekin_wave_1.txt": ("waves", 28),
     "time_schemes.txt": ("must be a number", 19),  # (a template: dtM "@DT@"; MoorDyn-C fails on it too)
@@ -69,6 +68,11 @@ NOT_MATCHED = {
                    "line 0.5 m slack and MoorDyn-C lets the point fall onto it with no settling (TmaxIC 1 ms), "
                    "after which the two codes' bounces differ; MoorDyn's own test reels the line in through its "
                    "API (SetLineUnstretchedLengthVel), which a file cannot say",
+    "seafloor.txt": "runs on its 3-D seafloor (a height field; run from tests/, where its SeafloorFile path "
+                    "leads, as MoorDyn's own harness does), below; MoorDyn-C's seabed pushes its nodes straight up "
+                    "and rubs them only horizontally (Line.cpp), so its 10 kg point, resting on the 11 deg "
+                    "frictionless slope on a slack line, stays put (3 mm in 30 s), where mjtether's contact acts "
+                    "along the slope's normal and the point slides down it until its line is taut, then swings",
     "BeamSimplySupported.txt": "runs; MoorDyn-C 2.7.2's run of it zig-zags within 5 s (1.8 MN along a 10 m beam "
                                "that sags 12.7 mm) and its start pulls the pinned ends with 6331 N, 5.4 % above "
                                "beam theory's 6009 N: checked against beam theory below, as MoorDyn's own test does",
@@ -197,6 +201,46 @@ def test_a_point_on_a_neutral_line_hangs_with_its_weight(tmp_path, name, mass):
     for end in "AB":
         t = rows[f"line1_{end}_tension_N"][rows["time_s"] >= 2.0].mean()
         assert t == pytest.approx(mass * 9.80665, rel=1e-3)
+
+
+def test_a_3d_seafloor_file_runs_on_its_height_field(tmp_path, monkeypatch):
+    """seafloor.txt, run from MoorDyn's tests/ folder (its SeafloorFile is named from there): the
+    seabed is the file's grid (a MuJoCo height field), and the point that slides and swings over
+    it never goes through it (its lowest clearance over the grid, less the line's 5 cm radius,
+    stays above -1 cm: the soft contact's give) over 20 s."""
+    from mjtether.physics import bathymetry
+    monkeypatch.chdir(DATA / "tests")
+    rows = _run(tmp_path, Path("Mooring") / "seafloor.txt", 20.0)
+    grid = bathymetry.load(MOORING / "3D_seafloor" / "seafloor_profile_3d.txt")
+    gap = rows["point2_z_m"] - grid.height(rows["point2_x_m"], rows["point2_y_m"])
+    assert gap.min() >= -0.01, gap.min()
+    assert abs(rows["point2_x_m"][-1] - rows["point2_x_m"][0]) > 1.0  # (it moved: slid down the slope)
+
+
+def test_a_network_on_a_3d_seafloor_is_written_with_it(tmp_path, monkeypatch):
+    """seafloor.txt read and written back (``write_network``): the SeafloorFile line names the same
+    grid, which MoorDyn-C reads (its depth under the point, -28 m) and mjtether reads back."""
+    monkeypatch.chdir(DATA / "tests")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", moordyn.MoorDynWarning)
+        net = moordyn.read(Path("Mooring") / "seafloor.txt")
+    (tmp_path / "net.txt").write_text(moordyn.write_network(net))
+    back = moordyn.read(tmp_path / "net.txt")
+    assert back.bathymetry == net.bathymetry
+    md = pytest.importorskip("moordyn")
+    s = md.Create(str(tmp_path / "net.txt"))
+    try:
+        assert md.GetDepthAt(md.GetSeafloor(s), 10.0, -1.0) == pytest.approx(-28.0, abs=1e-5)
+    finally:
+        md.Close(s)
+
+
+def test_a_missing_seafloor_file_is_refused_naming_the_line(tmp_path):
+    text = (MOORING / "seafloor.txt").read_text()
+    (tmp_path / "sf.txt").write_text(text)
+    with pytest.raises(ValueError, match=r"line 23: SeafloorFile Mooring/3D_seafloor/seafloor_profile_3d.txt: no "
+                                         "such file beside the input file"):
+        moordyn.read(tmp_path / "sf.txt")
 
 
 @pytest.mark.parametrize("setting, words", [
