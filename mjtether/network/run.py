@@ -195,23 +195,33 @@ def _support(net: Network, positions: dict, pid: str):
 
 SETTLE_RATE = 1.0
 """Damping (1/s, per unit of each degree of freedom's mass) while a network settles."""
+SETTLED_SPEED = 1e-3
+"""A settling network has settled when no degree of freedom moves faster than this (m/s, rad/s)."""
 
 
 def settle(r: NetworkRun, duration: float) -> None:
-    """Let the network fall into place for ``duration`` (s) with every degree of freedom damped at
-    ``SETTLE_RATE`` (MuJoCo's joint damping, integrated implicitly), as MoorDyn's dynamic
-    relaxation does before its run; then take the damping off, stop every motion and start the
-    clock at 0."""
+    """Let the network fall into place for up to ``duration`` (s) with every degree of freedom
+    damped at ``SETTLE_RATE`` (MuJoCo's joint damping, integrated implicitly), as MoorDyn's
+    dynamic relaxation does before its run, stopping once it has settled (every speed below
+    ``SETTLED_SPEED``, checked each second, as MoorDyn checks its threshIC); then take the
+    damping off, stop every motion and start the clock at 0."""
     m, d = r.sim.model, r.sim.data
     saved = m.dof_damping.copy()
     m.dof_damping[:] = saved + SETTLE_RATE / np.maximum(m.dof_invweight0, 1e-12)
+    every = max(1, round(1.0 / r.timestep))
+    total, done = max(1, round(duration / r.timestep)), 0
     try:
-        r.sim.step(max(1, round(duration / r.timestep)))
+        while done < total:
+            k = min(every, total - done)
+            r.sim.step(k)
+            done += k
+            if float(np.abs(d.qvel).max()) < SETTLED_SPEED:
+                break
     finally:
         m.dof_damping[:] = saved
     d.qvel[:] = 0.0
     d.time = 0.0
-    r.note += f"; settled for {duration:g} s with damping"
+    r.note += f"; settled for {done * r.timestep:g} s with damping"
     r.sim.forward()
 
 
