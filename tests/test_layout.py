@@ -15,8 +15,9 @@ PACKAGE = Path(__file__).resolve().parents[1] / "mjtether"
 
 LEAVES = {"mjtether._checks", "mjtether.units", "mjtether.analytic", "mjtether.io.packagedata",
           "mjtether.io.mjlog", "mjtether.io.outdir", "mjtether.io.render"}
-RANK = {"physics": 1, "cable": 2, "vehicles": 2, "walker": 3, "simulation": 4, "quasistatic": 5, "scenario": 6, "network": 6,
-        "io": 7, "sweep": 8, "rollouts": 8, "demo": 8, "cli": 9}
+RANK = {"physics": 1, "cable": 2, "vehicles": 2, "walker": 3, "simulation": 4, "quasistatic": 5, "scenario": 6,
+        "network": 7, "io": 8, "sweep": 9, "rollouts": 9, "demo": 9, "cli": 10}  # (a network flies vehicles
+# with the scenario's autopilot)
 
 
 def _module(path: Path) -> str:

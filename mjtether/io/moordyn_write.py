@@ -88,6 +88,11 @@ def write_network(net) -> str:
     profile ``current_profile(net)`` must be written beside the file as ``CURRENT_FILE``."""
     if net.timestep is not None and net.timestep <= 0:
         raise ScenarioError("simulation.timestep: must be > 0", "simulation.timestep")
+    if net.vehicles:
+        _refuse("vehicles", f"vehicles flown by an autopilot ({', '.join(net.vehicles)})")
+    paying = [ln.name for ln in net.lines if ln.payout_speed > 0]
+    if paying:
+        _refuse("lines", f"lines paying out from a winch ({', '.join(paying)}: MoorDyn's coupled program does that)")
     pid = {name: i for i, name in enumerate(net.points, 1)}
     bid = {name: i for i, name in enumerate(net.bodies, 1)}
     out = ["--------------------- MoorDyn Input File ------------------------------------",

@@ -5,12 +5,15 @@ A ``Network`` holds any number of lines, each between two points. A point is
 * ``fixed``: held in the world (an anchor, a fixed fairlead);
 * ``coupled``: moved by a coupled program (MoorDyn's ``Vessel``/``Coupled``); mjtether holds it
   where the file puts it;
-* ``body``: fixed to a body, at ``position`` in the body's frame;
+* ``body``: fixed to a body (or a vehicle), at ``position`` in its frame;
 * ``free``: a point mass with volume, drag area and added mass (a clump weight, a buoy, a
   connecting ring, a free line end): its position is part of the solution.
 
 Several lines may share a point (a bridle, a spread mooring, two lines to one anchor). A body
-is ``coupled`` or ``fixed`` (held at its pose) or ``free`` (a 6-DOF rigid body). Units SI,
+is ``coupled`` or ``fixed`` (held at its pose) or ``free`` (a 6-DOF rigid body). A vehicle
+(``Vehicle``: a vehicle file, such as the BlueROV2 Heavy) flies on its own thrusters, holding a
+station. A line may pay out from a winch at its end B (a drum on a cage, say) at a constant speed
+up to a length. Units SI,
 world frame z up, water surface at z = 0, seabed at z = -depth; angles in degrees.
 """
 
@@ -132,6 +135,41 @@ class Body:
 
 
 @dataclass(frozen=True)
+class Vehicle:
+    """A vehicle flown by its autopilot (``mjtether.vehicles``: a shipped vehicle's name or a
+    vehicle file): starting at ``position`` (m, world) facing ``heading_deg``, it holds
+    ``station`` (x m, y m, depth m below the surface; default: where it starts) at that heading.
+    Lines attach to it at ``body`` points (its frame: x forward, z up; its tow point, say)."""
+
+    name: str
+    vehicle: str
+    position: tuple
+    heading_deg: float = 0.0
+    station: tuple | None = None
+
+    def __post_init__(self):
+        where = f"vehicle {self.name!r}"
+        object.__setattr__(self, "position", tuple(_checks.vector3(f"{where}: position", self.position)))
+        _checks.finite(f"{where}: heading_deg", self.heading_deg)
+        if self.station is None:
+            object.__setattr__(self, "station", (self.position[0], self.position[1], -self.position[2]))
+        object.__setattr__(self, "station", tuple(_checks.vector3(f"{where}: station", self.station)))
+        if self.position[2] > 0 or self.station[2] < 0:
+            raise NetworkError(f"{where}: a vehicle starts and holds station under water (position z <= 0, "
+                               "station depth >= 0)")
+        try:
+            self.spec
+        except ValueError as exc:
+            raise NetworkError(f"{where}: {exc}") from None
+
+    @property
+    def spec(self):
+        """Its ``vehicles.VehicleSpec``."""
+        from mjtether.vehicles.files import load_vehicle
+        return load_vehicle(self.vehicle)
+
+
+@dataclass(frozen=True)
 class Line:
     """A line of ``type`` from point ``a`` (MoorDyn's end A, usually the anchor) to point ``b``:
     unstretched length (m) in ``segments`` elements."""
@@ -142,10 +180,16 @@ class Line:
     b: str
     length: float
     segments: int
+    payout_speed: float = 0.0
+    max_length: float = 0.0
 
     def __post_init__(self):
         where = f"line {self.name!r}"
         _checks.positive(f"{where}: length", self.length, "m")
+        _checks.non_negative(f"{where}: payout_speed", self.payout_speed)
+        if self.payout_speed > 0 and not self.max_length > self.length:
+            raise NetworkError(f"{where}: a line paying out (payout_speed > 0) needs max_length (m, what its drum "
+                               f"holds) above its length {self.length:g} m, got {self.max_length!r}")
         if not (isinstance(self.segments, int) and 1 <= self.segments <= 1000):
             raise NetworkError(f"{where}: segments must be a whole number in [1, 1000], got {self.segments!r}")
         if self.a == self.b:
@@ -171,6 +215,7 @@ class Network:
     points: dict
     lines: tuple
     bodies: dict = field(default_factory=dict)
+    vehicles: dict = field(default_factory=dict)
     depth: float = 100.0
     rho: float = 1025.0
     gravity: float = DEFAULT_GRAVITY
@@ -228,8 +273,12 @@ class Network:
                 if end not in self.points:
                     raise NetworkError(f"line {ln.name!r}: point {end!r} is not a point ({', '.join(self.points)})")
         for p in self.points.values():
-            if p.kind == "body" and p.body not in self.bodies:
-                raise NetworkError(f"point {p.name!r}: body {p.body!r} is not a body ({', '.join(self.bodies)})")
+            if p.kind == "body" and p.body not in self.bodies and p.body not in self.vehicles:
+                raise NetworkError(f"point {p.name!r}: body {p.body!r} is not a body or vehicle "
+                                   f"({', '.join([*self.bodies, *self.vehicles])})")
+        both = set(self.bodies) & set(self.vehicles)
+        if both:
+            raise NetworkError(f"vehicles: {', '.join(sorted(both))} also named as a body")
 
     @property
     def seabed_z(self) -> float:
@@ -260,7 +309,7 @@ _SECTIONS = {"water": {"depth", "rho", "gravity", "seabed_stiffness", "seabed_da
                        "current_depths", "current_speeds", "current_headings_deg", "bathymetry",
                        "bathymetry_spacing_m", "bathymetry_origin_m"},
              "simulation": {"duration", "timestep", "output_interval", "settle", "start"},
-             "line_types": None, "points": None, "bodies": None, "lines": None}
+             "line_types": None, "points": None, "bodies": None, "vehicles": None, "lines": None}
 
 
 def _fields(cls) -> set:
@@ -286,8 +335,9 @@ def _table(source: str, where: str, entry, cls, **extra):
 
 def from_dict(data: dict, name: str = "<network>", overrides=()) -> Network:
     """A network from its TOML tree: ``[water]`` and ``[simulation]`` (the ``Network`` fields),
-    ``[line_types.NAME]``, ``[points.NAME]`` and ``[bodies.NAME]`` (the fields of ``LineType``,
-    ``Point`` and ``Body``) and ``[[lines]]`` (those of ``Line``, ``name`` included);
+    ``[line_types.NAME]``, ``[points.NAME]``, ``[bodies.NAME]`` and ``[vehicles.NAME]`` (the fields
+    of ``LineType``, ``Point``, ``Body`` and ``Vehicle``) and ``[[lines]]`` (those of ``Line``,
+    ``name`` included);
     ``overrides`` as in ``with_overrides``."""
     unknown = set(data) - set(_SECTIONS)
     if unknown:
@@ -304,6 +354,7 @@ def from_dict(data: dict, name: str = "<network>", overrides=()) -> Network:
     types = {k: _table(name, f"line_types.{k}", v, LineType, name=k) for k, v in data.get("line_types", {}).items()}
     points = {k: _table(name, f"points.{k}", v, Point, name=k) for k, v in data.get("points", {}).items()}
     bodies = {k: _table(name, f"bodies.{k}", v, Body, name=k) for k, v in data.get("bodies", {}).items()}
+    vehicles = {k: _table(name, f"vehicles.{k}", v, Vehicle, name=k) for k, v in data.get("vehicles", {}).items()}
     lines = data.get("lines", [])
     if not isinstance(lines, list):
         raise NetworkError(f"{name}: lines must be a list of tables ([[lines]])")
@@ -314,7 +365,8 @@ def from_dict(data: dict, name: str = "<network>", overrides=()) -> Network:
         line_list.append(_table(name, f"lines[{i}] ({entry['name']!r})", {k: v for k, v in entry.items()
                                                                           if k != "name"}, Line, name=str(entry["name"])))
     try:
-        net = Network(name, types, points, tuple(line_list), bodies=bodies, **{k: v for (_, k), v in flat.items()})
+        net = Network(name, types, points, tuple(line_list), bodies=bodies, vehicles=vehicles,
+                      **{k: v for (_, k), v in flat.items()})
     except ValueError as exc:
         raise NetworkError(f"{name}: {exc}") from None
     return with_overrides(net, overrides)

@@ -8,7 +8,10 @@ a point lighter than the end nodes of its lines is given that much more inertia,
 weight compensated (MuJoCo's ``gravcomp``), so that the constraints that hold the line ends to
 it are as well conditioned as the rest: the statics are exact, and the point's inertia in the
 dynamics is that of the line ends it joins. Coupled and fixed bodies are held at their pose; a
-free body starts at its given pose (the statics hold it there) and settles.
+free body starts at its given pose (the statics hold it there) and settles. A vehicle is its
+vehicle file's MuJoCo body (``vehicles.build_vehicle``), flown by the scenario's autopilot
+(``VehiclePilot``) holding its station; a line paying out has its drum at end B, whose deployed
+length grows at its payout speed up to its max_length (``BoundTether.set_length``).
 
 The time step is the largest that every line allows (``cable.stability.max_timestep`` at the
 steady-state tension, and the seabed contact's limit), at most ``MAX_TIMESTEP``; a MoorDyn file's ``dtM``
@@ -30,7 +33,9 @@ import numpy as np
 from mjtether.cable import builder, stability
 from mjtether.physics import water as wm
 from mjtether.physics.rigidbody import RigidBodyHydro, add_body_hydro
+from mjtether.scenario.controllers import VehiclePilot
 from mjtether.simulation import Simulation, SimulationDiverged
+from mjtether.vehicles.files import build_vehicle
 
 from . import statics
 from .config import Network
@@ -57,11 +62,13 @@ def _quat(rpy_deg) -> list:
 
 
 def body_frame(net: Network, name: str):
-    """World position (m) and rotation matrix of a body at its pose in the network."""
-    b = net.bodies[name]
+    """World position (m) and rotation matrix of a body (or vehicle) at its pose in the network."""
+    b = net.bodies.get(name)
+    pos, rpy = (b.position, b.rpy_deg) if b is not None else (net.vehicles[name].position,
+                                                                (0.0, 0.0, net.vehicles[name].heading_deg))
     R = np.zeros(9)
-    mujoco.mju_quat2Mat(R, np.array(_quat(b.rpy_deg)))
-    return np.array(b.position, float), R.reshape(3, 3)
+    mujoco.mju_quat2Mat(R, np.array(_quat(rpy)))
+    return np.array(pos, float), R.reshape(3, 3)
 
 
 def start_positions(net: Network) -> dict:
@@ -101,6 +108,29 @@ class NetworkRun:
     point_bodies: dict
     note: str
     timestep: float
+    pilots: dict = None  # vehicle name -> its VehiclePilot
+    vehicle_bodies: dict = None  # vehicle name -> its BoundVehicle
+
+    def advance(self, steps: int) -> None:
+        """Step ``steps`` times; with vehicles or winches, their controls act before each step."""
+        if not self.pilots and not any(ln.payout_speed > 0 for ln in self.net.lines):
+            self.sim.step(steps)
+            return
+        dt = self.timestep
+        for _ in range(steps):
+            t = self.sim.time
+            for pilot in self.pilots.values():
+                pilot.update(self, t, dt)
+            for ln in self.net.lines:
+                if ln.payout_speed > 0:
+                    length = ln.length + ln.payout_speed * (t + dt)
+                    self.sim.tethers[ln.name].set_length(min(length, ln.max_length),
+                                                         rate=ln.payout_speed if length < ln.max_length else 0.0)
+            self.sim.step()
+
+    def deployed_length(self, name: str) -> float:
+        """Unstretched length (m) of line ``name`` out of its drum."""
+        return float(self.sim.tethers[name].deployed_length)
 
     def line_forces(self, name: str) -> tuple[np.ndarray, np.ndarray]:
         """Forces of line ``name`` on its ends A and B (N, world)."""
@@ -144,6 +174,9 @@ def build(net: Network) -> NetworkRun:
             hydro.append(add_body_hydro(spec, f"body/{name}", RigidBodyHydro(
                 volume=b.volume, drag_cd=(1.0, 1.0, 1.0), drag_area=b.cd_area,
                 added_mass=tuple(c * net.rho * b.volume for c in b.ca))))
+    for name, v in net.vehicles.items():
+        hydro.append(build_vehicle(spec, v.spec, f"body/{name}", pos=v.position))
+        spec.body(f"body/{name}").quat = _quat((0.0, 0.0, v.heading_deg))
     end_mass = {}
     for ln in net.lines:  # the lumped mass of a line's end node (half an element)
         lt = net.line_types[ln.type]
@@ -172,8 +205,18 @@ def build(net: Network) -> NetworkRun:
             spec, lt.tether(ln.length, ln.segments), ends[0], ends[1], water=water, nodes=nodes, name=ln.name,
             seabed_friction=net.seabed_friction, seabed_stiffness=net.seabed_stiffness or None,
             seabed_damping=net.seabed_damping, start_at=positions[ln.b], end_at=positions[ln.a],
-            rest_on_axis=True)
+            rest_on_axis=True, max_length=ln.max_length if ln.payout_speed > 0 else None)
     sim = Simulation(spec, water, tethers=list(tms.values()), bodies=hydro)
+    vehicle_bodies, pilots = {}, {}
+    for name, v in net.vehicles.items():  # (after the Simulation: the pilot flies its bound body)
+        vs = v.spec
+        bound = next(b for b in sim.bodies if getattr(b, "name", None) == f"body/{name}")
+        acts = np.array([sim.model.actuator(f"body/{name}/{t.name}").id for t in vs.thrusters], dtype=int)
+        heading = math.radians(v.heading_deg)
+        pilot = VehiclePilot(np.array([[0.0, 0.0, heading, v.station[2]]]), vs.autopilot, vs.thrusters, acts,
+                             start=v.position, body=bound)
+        pilot.station = (v.station[0], v.station[1], v.station[2], heading)
+        vehicle_bodies[name], pilots[name] = bound, pilot
     point_bodies = {}
     for name, p in net.points.items():
         if p.kind == "free":
@@ -181,7 +224,7 @@ def build(net: Network) -> NetworkRun:
             point_bodies[name] = bid
             sim.data.xfrc_applied[bid, :3] = p.force
     sim.forward()
-    return NetworkRun(net, sim, point_bodies, note, dt)
+    return NetworkRun(net, sim, point_bodies, note, dt, pilots, vehicle_bodies)
 
 
 def _support(net: Network, positions: dict, pid: str):
@@ -227,7 +270,8 @@ def settle(r: NetworkRun, duration: float) -> None:
 
 def columns(net: Network) -> list[str]:
     """The time series' columns: per line, the tension (N) and its horizontal and vertical parts
-    at ends A and B and its stretched length (m); per free point, its position (m)."""
+    at ends A and B and its stretched length (m); per free point and free body, its position (m);
+    per vehicle, its position (m) and heading (deg); per line paying out, its deployed length (m)."""
     cols = ["time_s"]
     for ln in net.lines:
         for end in ("A", "B"):
@@ -237,6 +281,12 @@ def columns(net: Network) -> list[str]:
     for name, p in net.points.items():
         if p.kind == "free":
             cols += [f"point{name}_{k}_m" for k in "xyz"]
+    for name, b in net.bodies.items():
+        if b.kind == "free":
+            cols += [f"body{name}_{k}_m" for k in "xyz"]
+    for name in net.vehicles:
+        cols += [f"vehicle{name}_{k}_m" for k in "xyz"] + [f"vehicle{name}_heading_deg"]
+    cols += [f"line{ln.name}_deployed_m" for ln in net.lines if ln.payout_speed > 0]
     return cols
 
 
@@ -248,6 +298,13 @@ def sample(r: NetworkRun) -> list[float]:
         row.append(r.sim.tethers[ln.name].stretched_length(r.sim.data))
     for name in r.point_bodies:
         row += list(r.point_position(name))
+    for name, b in r.net.bodies.items():
+        if b.kind == "free":
+            row += list(r.sim.data.xpos[r.sim.model.body(f"body/{name}").id])
+    for name, body in r.vehicle_bodies.items():
+        R = r.sim.data.xmat[body.id].reshape(3, 3)
+        row += list(r.sim.data.xpos[body.id]) + [math.degrees(math.atan2(R[1, 0], R[0, 0]))]
+    row += [r.deployed_length(ln.name) for ln in r.net.lines if ln.payout_speed > 0]
     return row
 
 
@@ -265,7 +322,7 @@ def simulate(net: Network, progress=None) -> tuple[NetworkRun, np.ndarray]:
         done = 0
         while done < total:
             k = min(every, total - done)
-            r.sim.step(k)
+            r.advance(k)
             done += k
             rows.append(sample(r))
             if progress is not None:

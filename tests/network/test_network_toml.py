@@ -34,6 +34,16 @@ BAD = {  # edit of GOOD: what the one-line error must say
     "a point that is not there": (('b = "b"', 'b = "c"'), "line '1': point 'c' is not a point (a, b)"),
     "a text for a number": (("depth = 50.0", 'depth = "deep"'), "water.depth"),
     "half a segment": (("segments = 10", "segments = 10.5"), "segments must be a whole number in [1, 1000]"),
+    "an unknown vehicle": (("[points.a]", '[vehicles.rov]\nvehicle = "nautilus"\nposition = [0.0, 0.0, -20.0]\n'
+                                          "[points.a]"), "vehicles.rov: vehicle 'rov': vehicle 'nautilus': not a "
+                                                         "shipped vehicle"),
+    "a vehicle above the water": (("[points.a]", '[vehicles.rov]\nvehicle = "bluerov2_heavy"\n'
+                                                 "position = [0.0, 0.0, 2.0]\n[points.a]"),
+                                  "a vehicle starts and holds station under water"),
+    "a payout with no room on the drum": (("segments = 10", "segments = 10\npayout_speed = 0.5"),
+                                          "line '1': a line paying out (payout_speed > 0) needs max_length"),
+    "a bathymetry that is not there": (("depth = 50.0", 'depth = 50.0\nbathymetry = "nowhere.csv"'),
+                                       "nowhere.csv: no such file"),
 }
 
 
