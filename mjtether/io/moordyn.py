@@ -19,7 +19,9 @@ least as deep as the lowest point).
   robot end): a chain is a line make-up, one ``[[tether.sections]]`` per line and a
   ``[[tether.point_loads]]`` at each free point with mass, volume or drag;
 * a ``mjtether.network.Network`` for anything else: several lines sharing points, free points
-  and free line ends, fixed or coupled or free bodies. It settles for the file's TmaxIC (at most
+  and free line ends, fixed or coupled or free bodies, and rods (fixed, coupled or free: each a
+  rigid cylinder, a body ``rod<n>`` with points ``R<n>A`` and ``R<n>B`` at its ends, its
+  hydrodynamics lumped at its middle where MoorDyn spreads them over its segments). It settles for the file's TmaxIC (at most
   ``MAX_SETTLE``) before its run, as MoorDyn relaxes before its own; with TmaxIC 0 it starts,
   as MoorDyn does, from the file's positions at rest.
 
@@ -29,8 +31,8 @@ BA/-zeta: mjtether damps each element's stretch critically (noted). Read, not ne
 options of MoorDyn's own integrator and initial-condition solver (dtM, CFL, tScheme, dtIC,
 TmaxIC, CdScaleIC, threshIC, ICgenDynamic, fileIC; mjtether picks its own stable step and
 starts from its steady state), FricDamp (mjtether's friction sticks exactly), the output
-options and the OUTPUTS section. Refused, naming the feature and the file's line: rods, line
-failure, SYROPE line types, viscoelastic ('|') or nonlinear (a curve file) EA, BA in N s, VIV
+options and the OUTPUTS section. Refused, naming the feature and the file's line: pinned rods,
+rods on bodies, a line with bending stiffness on a rod's end (MoorDyn clamps it), line failure, SYROPE line types, viscoelastic ('|') or nonlinear (a curve file) EA, BA in N s, VIV
 (Cl != 0), pinned bodies, waves (WaveKin), MoorDyn's dynamic current files (Currents 2, 4, 5)
 and static friction other than kinetic (StatDynFricScale). A 3-D seafloor (SeafloorFile, beside
 the file or in the working folder, where MoorDyn-C looks) becomes the seabed's height field.
@@ -73,8 +75,7 @@ _SECTIONS = {
     "OPTIONS": ("OPTIONS",),
     "OUTPUTS": ("OUTPUTS",),
 }
-_REFUSED_SECTIONS = {"ROD TYPES": "rods", "RODS": "rods", "FAILURE": "line failure",
-                     "SYROPE IC": "SYROPE line types"}
+_REFUSED_SECTIONS = {"FAILURE": "line failure", "SYROPE IC": "SYROPE line types"}
 # MoorDyn-C's option names and aliases (MoorDyn2.cpp, readOptionsLine), lower case
 _OPTION_ALIASES = {"dt": "dtm", "gravity": "g", "wtrdnsty": "rho", "kb": "kbot", "cb": "cbot", "icdt": "dtic",
                    "ictmax": "tmaxic", "icdfac": "cdscaleic", "icthresh": "threshic",
@@ -99,8 +100,10 @@ class MoorDynWarning(UserWarning):
 
 
 def is_moordyn(text: str) -> bool:
-    """Whether ``text`` looks like a MoorDyn input file (it has a LINE TYPES or LINE DICTIONARY section)."""
-    return any(_HEADER.match(line) and ("LINE TYPES" in line.upper() or "LINE DICTIONARY" in line.upper())
+    """Whether ``text`` looks like a MoorDyn input file (it has a LINE TYPES or ROD TYPES section, or
+    their DICTIONARY aliases)."""
+    return any(_HEADER.match(line) and any(k in line.upper() for k in ("LINE TYPES", "LINE DICTIONARY", "ROD TYPES",
+                                                                       "ROD DICTIONARY"))
                for line in text.splitlines())
 
 
@@ -186,6 +189,8 @@ def parse(text: str, name: str = "<moordyn>") -> Parsed:
         if key in sec and len(sec[key][1]) > (2 if key != "FAILURE" else 1):
             no = sec[key][1][min(2, len(sec[key][1]) - 1)][0]
             raise ScenarioError(f"{name}: line {no}: {what} ({key} section) are not supported by mjtether")
+    if "RODS" in sec:  # (first: a file of rods alone has no LINE TYPES)
+        _rods(name, sec, [])
     if "LINE TYPES" not in sec:
         raise ScenarioError(f"{name}: line 1: no LINE TYPES section: not a MoorDyn v2 input file")
     for key in ("POINTS", "LINES"):
@@ -276,6 +281,11 @@ def parse(text: str, name: str = "<moordyn>") -> Parsed:
             rows[f"body{f[0]}"] = no
 
     points = {}
+    if "RODS" in sec:  # (each a rigid body, its ends points R<n>A and R<n>B)
+        for body, ends, no in _rods(name, sec, notes):
+            bodies[body.name] = body
+            rows[f"body{body.name}"] = no
+            points.update(ends)
     depth = opt("wtrdpth", 0.0)
     _, point_rows = _table(name, sec, "POINTS")
     for k, (no, f) in enumerate(point_rows, 1):
@@ -328,8 +338,14 @@ def parse(text: str, name: str = "<moordyn>") -> Parsed:
         for end in f[2:4]:
             word, num = _word(end)
             if word in ("R", "ROD"):
-                raise ScenarioError(f"{name}: line {no}: attachment {end!r} is a rod end; rods are not supported by "
-                                    "mjtether")
+                rod_end = re.fullmatch(r"(?i)r(?:od)?(\d+)([ab])", end)
+                if rod_end is None or f"R{rod_end[1]}{rod_end[2].upper()}" not in points:
+                    raise ScenarioError(f"{name}: line {no}: attachment {end!r} is not an end of a rod of RODS")
+                if types[f[1]].EI > 0:
+                    raise ScenarioError(f"{name}: line {no}: a line with bending stiffness (EI) on a rod's end, which "
+                                        "MoorDyn clamps (a cantilever), is not supported by mjtether")
+                ends.append(f"R{rod_end[1]}{rod_end[2].upper()}")
+                continue
             if word not in ("", "C", "CON", "P", "POINT") or num not in points:
                 raise ScenarioError(f"{name}: line {no}: attachment {end!r} is not a point of POINTS")
             ends.append(num)
@@ -395,6 +411,61 @@ def _current_profile(name: str, no: int) -> tuple:
         raise ScenarioError(f"{path}: line 4: no row of the current profile is in the water (z <= 0)")
     table.sort()
     return tuple(zip(*table))
+
+
+def _rods(name, sec, notes):
+    """Each rod of RODS as a rigid ``Body`` (``rod<n>``, its x axis from end A to end B, at its
+    middle) with points ``R<n>A`` and ``R<n>B`` at its ends: [(body, {point name: Point}, line
+    number)]. Its mass and volume are the cylinder's, its inertia a solid cylinder's, its drag
+    areas Cd d L across and CdEnd pi d^2/4 along, its added mass Ca across and, along, CaEnd on
+    its two end half-spheres (MoorDyn's V = 2/3 pi r^3 at each end)."""
+    from mjtether.network import Body, Point
+    if "ROD TYPES" not in sec:
+        raise ScenarioError(f"{name}: line {sec['RODS'][0]}: rods need a ROD TYPES section")
+    rod_types = {}
+    for no, f in _table(name, sec, "ROD TYPES")[1]:
+        if len(f) < 7:
+            raise ScenarioError(f"{name}: line {no}: a rod type needs TypeName Diam Mass/m Cd Ca CdEnd CaEnd")
+        rod_types[f[0]] = [_number(name, no, x, "a rod type's Diam/Mass/Cd/Ca/CdEnd/CaEnd") for x in f[1:7]]
+    out = []
+    for no, f in _table(name, sec, "RODS")[1]:
+        if len(f) < 10:
+            raise ScenarioError(f"{name}: line {no}: a rod needs ID RodType Attachment Xa Ya Za Xb Yb Zb NumSegs")
+        if f[1] not in rod_types:
+            raise ScenarioError(f"{name}: line {no}: rod type {f[1]!r} is not in ROD TYPES ({', '.join(rod_types)})")
+        word, _ = _word(f[1 + 1])
+        kind = "fixed" if word in _FIXED else "coupled" if word in _COUPLED else "free" if word == "FREE" else None
+        if kind is None:
+            why = ("pinned rods" if "PIN" in f[2].upper() else "rods on a body" if word == "BODY"
+                   else f"rod type {f[2]!r}")
+            raise ScenarioError(f"{name}: line {no}: {why} are not supported by mjtether (Fixed, Coupled, Free rods "
+                                "are)")
+        a = [_number(name, no, x, "Xa/Ya/Za") for x in f[3:6]]
+        b = [_number(name, no, x, "Xb/Yb/Zb") for x in f[6:9]]
+        d, m, cd, ca, cd_end, ca_end = rod_types[f[1]]
+        axis = [q - p for p, q in zip(a, b)]
+        L = math.sqrt(sum(x * x for x in axis))
+        if L <= 0:
+            raise ScenarioError(f"{name}: line {no}: a rod of zero length (a MoorDyn point-like rod) is not supported")
+        u = [x / L for x in axis]
+        yaw, pitch = math.asin(max(-1.0, min(1.0, u[1]))), math.atan2(-u[2], u[0])
+        mass, area = m * L, math.pi * d * d / 4
+        volume = area * L
+        ends_ca = ca_end * 2 * (2 / 3 * math.pi * (d / 2) ** 3) / volume
+        try:
+            body = Body(f"rod{f[0]}", kind, [(p + q) / 2 for p, q in zip(a, b)], rpy_deg=(0.0, math.degrees(pitch),
+                                                                                           math.degrees(yaw)),
+                        mass=mass, inertia=(mass * d * d / 8, mass * (L * L / 12 + d * d / 16),
+                                            mass * (L * L / 12 + d * d / 16)),
+                        volume=volume, cd_area=(cd_end * area, cd * d * L, cd * d * L), ca=(ends_ca, ca, ca))
+            ends = {f"R{f[0]}{e}": Point(f"R{f[0]}{e}", "body", (s * L / 2, 0.0, 0.0), body=body.name)
+                    for e, s in (("A", -1.0), ("B", 1.0))}
+        except ValueError as exc:
+            raise ScenarioError(f"{name}: line {no}: {exc}") from None
+        notes.append(f"line {no}: rod {f[0]} is a rigid body (its hydrodynamics lumped at its middle, not along "
+                     f"its {f[9]} segments)")
+        out.append((body, ends, no))
+    return out
 
 
 def _body(name, no, f, Body):

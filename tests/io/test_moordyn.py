@@ -131,14 +131,15 @@ REFUSED = {  # name: (edit of the chain file, what the error must contain)
     "a text where a number goes": (("1     Chain       1        2        450 ", "1     Chain       1        2        long "),
                                    "line 16: UnstrLen must be a number, got 'long'"),
     "a seafloor file": (("150           WtrDpth", "sea.txt       SeafloorFile\n150           WtrDpth"),
-                        "line 21: SeafloorFile: a 3-D seafloor is not supported"),
+                        "line 21: SeafloorFile sea.txt: no such file beside the input file"),
     "a dynamic current": (("150           WtrDpth", "2             Currents\n150           WtrDpth"),
                           "line 21: Currents = 2: dynamic or 4-D currents are not supported"),
     "static friction above kinetic": (("150           WtrDpth", "0.5 FrictionCoefficient\n1.5 StatDynFricScale\n150 WtrDpth"),
                                       "static and kinetic friction differ"),
-    "a rod": (("---------------------- POINTS", "---------------------- RODS ---\nID RodType\n(#) (name)\n"
-               "1 Can Fixed 0 0 0 0 0 5 4 -\n---------------------- POINTS"),
-              "line 11: rods (RODS section) are not supported by mjtether"),
+    "a pinned rod": (("---------------------- POINTS", "---------------------- ROD TYPES ---\nName Diam Mass Cd Ca "
+                      "CdEnd CaEnd\n(-) (m) (kg/m) (-) (-) (-) (-)\nCan 1 10 1 1 1 1\n---------------------- RODS ---\n"
+                      "ID RodType\n(#) (name)\n1 Can Pinned 0 0 0 0 0 5 4 -\n---------------------- POINTS"),
+                     "line 15: pinned rods are not supported by mjtether"),
 }
 
 

@@ -40,13 +40,13 @@ NETWORKS = {
     "tests/Mooring/lines.txt": (30.0, 10.0),
     "example/lines.txt": (30.0, 10.0),
     "example/body.txt": (30.0, 10.0),
+    "tests/Mooring/RodHanging.txt": (60.0, 10.0),  # (a free rod: a rigid body; from the file's positions, TmaxIC 0)
 }
 # refused: file -> (words the refusal must hold, the file's line it must name)
 REFUSED = {
-    "BeamCantilevered.txt": ("rods", 10),
-    "BodiesAndRods.dat": ("rods", 11),
-    "RodHanging.txt": ("rods", 11),
-    "RodPinnedFloating.txt": ("rods", 8),
+    "BeamCantilevered.txt": ("bending stiffness (EI) on a rod's end, which MoorDyn clamps", 22),
+    "BodiesAndRods.dat": ("rods on a body are not supported", 19),
+    "RodPinnedFloating.txt": ("pinned rods are not supported", 12),
     "wavekin_current_1.txt": ("waves", 28),
     "wavekin_wave_1.txt": ("waves", 28),
     "time_schemes.txt": ("must be a number", 19),  # (a template: dtM "@DT@"; MoorDyn-C fails on it too)
