@@ -80,6 +80,9 @@ and say which here:
   ``walker_up_slope`` changed (its laid umbilical had started up to 10 m above the slope and fell
   during the run); ``walker_bathymetry`` added. Rewritten on an AMD EPYC machine (before: an Intel
   Xeon); every other run within the cross-machine tolerance of the file it replaced.
+* issue 30: a free drum has no acceleration limit unless one is given (``winch.max_accel`` 0):
+  ``remus_fibre_payout`` changed (its drum had been held to 0.2 m/s^2); every other run unchanged
+  bit for bit.
 
     python tests/golden.py   # rewrites tests/data/golden_runs.npz
 """

@@ -30,7 +30,10 @@ deployed length integrates it and stays within [min_length, max_length]. Modes:
 
 Every rate is limited to |rate| <= max_rate, and changes at most at ``max_accel`` (m/s^2): a
 real drum has inertia and a drive of finite power, and a step in payout rate jerks the cable at
-the fairlead (the length changes at the drum, see ``BoundTether.set_length``). A length of 0 is
+the fairlead (the length changes at the drum, see ``BoundTether.set_length``). ``max_accel`` 0
+(the default) is ``DRIVEN_ACCEL`` for a driven winch and no limit for a free drum, which takes
+only its own damping: limited to 0.2 m/s^2, a REMUS 100 pulling fibre off a free drum was held
+back by 45 N for its first 8 s, where the drum's damping asks for 0.3 N. A length of 0 is
 allowed (nothing deployed: a free drum pays out from there). Units SI.
 """
 
@@ -58,6 +61,8 @@ FOLLOW_FILTER_S = 5.0
 (several gait cycles: the tripod gait's is 1.2 s)."""
 
 MODES = ("fixed", "constant", "follow", "tension", "external", "free")
+DRIVEN_ACCEL = 0.2
+"""A driven winch's fastest change of payout rate (m/s^2) when ``max_accel`` is not given."""
 
 
 @dataclass
@@ -70,7 +75,7 @@ class Winch:
     max_length: float = float("inf")
     rate: float = 0.0
     max_rate: float = 2.0
-    max_accel: float = 0.2
+    max_accel: float = 0.0
     band: tuple = (0.0, float("inf"))
     drum_damping: float = 200.0
 
@@ -86,7 +91,7 @@ class Winch:
             raise ValueError(f"winch.length must be in [{self.min_length}, {self.max_length}] m "
                              f"(min_length, max_length), got {self.length!r}")
         _checks.positive("winch.max_rate", self.max_rate, "m/s")
-        _checks.positive("winch.max_accel", self.max_accel, "m/s^2")
+        _checks.non_negative("winch.max_accel", self.max_accel, "m/s^2")
         _checks.in_range("winch.rate", self.rate, -self.max_rate, self.max_rate, "m/s")
         lo, hi = (float(b) for b in self.band)
         if not (0.0 <= lo < hi):
@@ -98,6 +103,14 @@ class Winch:
         self._integral = 0.0  # integral part of the payout rate (m/s), "tension" mode
         self._progress = None  # filtered progress of the robot along the cable (m/s), "follow" mode
         self.current_rate = 0.0  # m/s, the drum's payout rate now
+
+    @property
+    def accel_limit(self) -> float:
+        """The fastest change of payout rate (m/s^2): ``max_accel``, or where that is 0,
+        ``DRIVEN_ACCEL`` for a driven winch and none (inf) for a free drum."""
+        if self.max_accel > 0:
+            return self.max_accel
+        return math.inf if self.mode == "free" else DRIVEN_ACCEL
 
     def command(self, rate: float) -> None:
         """Set the payout rate (m/s) of the ``"external"`` mode; clipped to +-max_rate."""
@@ -157,12 +170,15 @@ class Winch:
         want = self.payout_rate(t, tension, robot_speed, drum, dt)
         # brake in time for the length limits (on a curve a little gentler than max_accel, so the
         # acceleration-limited rate can follow it to zero), then limit the acceleration
-        a_brake = 0.8 * self.max_accel
-        if want > 0:
-            want = min(want, math.sqrt(2.0 * a_brake * max(self.max_length - self.length, 0.0)))
-        else:
-            want = max(want, -math.sqrt(2.0 * a_brake * max(self.length - self.min_length, 0.0)))
-        step = self.max_accel * dt
-        self.current_rate = _clip(want, self.current_rate - step, self.current_rate + step)
+        limit = self.accel_limit
+        if math.isfinite(limit):
+            a_brake = 0.8 * limit
+            if want > 0:
+                want = min(want, math.sqrt(2.0 * a_brake * max(self.max_length - self.length, 0.0)))
+            else:
+                want = max(want, -math.sqrt(2.0 * a_brake * max(self.length - self.min_length, 0.0)))
+            step = limit * dt
+            want = _clip(want, self.current_rate - step, self.current_rate + step)
+        self.current_rate = want
         self.length = _clip(self.length + self.current_rate * dt, self.min_length, self.max_length)
         return self.length

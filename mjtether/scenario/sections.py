@@ -404,7 +404,8 @@ class Winch(Section):
                               "the initial length for a fixed winch, twice it otherwise)")
     rate: float = param(_Winch.rate, -10.0, 10.0, "m/s", "constant: payout rate (negative reels in)")
     max_rate: float = param(_Winch.max_rate, 1e-3, 10.0, "m/s", "fastest payout or reel-in")
-    max_accel: float = param(_Winch.max_accel, 1e-3, 10.0, "m/s^2", "fastest change of the payout rate")
+    max_accel: float = param(_Winch.max_accel, 0.0, 10.0, "m/s^2", "fastest change of the payout rate; 0: 0.2 "
+                             "m/s^2 for a driven winch, no limit for a free drum (mode free: its damping alone)")
     band: tuple = param((0.0, 1e9), 0.0, INF, "N", "tension: keep the ship-end tension inside (low, high)",
                         kind="vec2")
     drum_damping: float = param(_Winch.drum_damping, 1e-3, 1e9, "N s/m", "free: tension per unit payout rate")
