@@ -83,6 +83,8 @@ and say which here:
 * issue 30: a free drum has no acceleration limit unless one is given (``winch.max_accel`` 0):
   ``remus_fibre_payout`` changed (its drum had been held to 0.2 m/s^2); every other run unchanged
   bit for bit.
+* issue 30: the record gained ``max_compression`` at its end; every column before it, the nodes
+  and tensions of every run unchanged bit for bit.
 
     python tests/golden.py   # rewrites tests/data/golden_runs.npz
 """

@@ -65,6 +65,7 @@ class BoundTether:
         self.apply, self._loads, self.native_table = self.forces.apply, self.forces.buffer, self.forces.native_table
         self.nodes, self.all_nodes, self.tension, self.element_tension = ro.nodes, ro.all_nodes, ro.tension, \
             ro.element_tension
+        self.element_compression = ro.element_compression
         self.element_length, self.slack_count, self.stretched_length = ro.element_length, ro.slack_count, \
             ro.stretched_length
         self.end_force, self.end_tension, self._rows = ro.end_force, ro.end_tension, ro.rows

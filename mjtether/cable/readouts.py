@@ -75,6 +75,20 @@ class TetherReadouts:
         out[:self.drum.first] = 0.0
         return out
 
+    def element_compression(self, data: mujoco.MjData) -> np.ndarray:
+        """The push of every element's constraint (N, >= 0), shape (n,): the force with which it
+        resisted shortening at the last step, which ``element_tension`` leaves out (a cable
+        carries tension only, so any push is the model's, not the cable's); 0 for slack elements
+        and those on the drum."""
+        L = self.layout
+        rows = self.switch.element_rows(data)
+        out = np.zeros(L.n)
+        if rows.stop > data.nefc:
+            raise RuntimeError("tether compression is available after mj_forward/mj_step")
+        out[np.flatnonzero(self.switch.efc_active(data)[L.eqs])] = np.maximum(data.efc_force[rows], 0.0)
+        out[:self.drum.first] = 0.0
+        return out
+
     def tension(self, data: mujoco.MjData) -> np.ndarray:
         """Axial tension of the deployed elements (N), shape (N,), the first at the ship."""
         return self.element_tension(data)[self.drum.first:]

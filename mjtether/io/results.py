@@ -9,7 +9,9 @@ Files (all SI units; ``docs/scenarios.md`` lists the CSV columns):
   ``readouts.VEHICLE_FIELDS``, for a run without a vehicle);
 * ``tether.npz``: ``time`` (n,) s; ``nodes`` (n, e+1, 3), node positions in m; ``tension``
   (n, e), element tensions in N (never negative: elements carry tension only; 0 when slack);
-  ``element_length`` (n, e), stretched element lengths in m. The e elements allocated are
+  ``element_length`` (n, e), stretched element lengths in m; ``compression`` (n, e), the push of
+  each element's constraint in N (>= 0: a cable cannot push, so any is the model's error, kept
+  out of ``tension`` and shown here and in ``max_compression``). The e elements allocated are
   numbered from the drum's core to the robot end, so element j is the same piece of cable all
   run; those still on the drum have length and tension 0, their nodes sit at the fairlead;
 * ``summary.json``: the scenario as read (defaults filled in), final and peak tensions, wall time,
@@ -128,7 +130,7 @@ def write(out, sc: dict, rows: np.ndarray, history: dict, info: dict, scenario_p
                 w.writerow([f"{v:.9g}" for v in r[keep]])
         if tethered:
             np.savez_compressed(tmp / "tether.npz", time=rows[:, 0], nodes=nodes, tension=history["tension"],
-                                element_length=history["element_length"])
+                                element_length=history["element_length"], compression=history["compression"])
         (tmp / "summary.json").write_text(json.dumps(summary(sc, rows, info, scenario_path), indent=2))
         if plots:
             _plots(tmp, rows, nodes, sc, tethered)

@@ -64,6 +64,9 @@ RECORD_FIELDS = [
     ("cable_plan_crossings", "", "tangle monitor: how many pairs of such elements cross in plan view"),
     ("cable_wrap", "deg", "tangle monitor: the angle the cable sweeps round the vehicle in plan view within two "
      "hull lengths (or two elements) of it (360: one full turn); only in runs with a vehicle"),
+    ("max_compression", "N", "the largest push of any element's constraint at this sample (>= 0): a cable carries "
+     "tension only, so a push is the model's error, which the tension columns (never negative) leave out; "
+     "tether.npz's compression has every element's"),
 ]
 
 
@@ -83,7 +86,7 @@ TETHER_FIELDS = ("ship_tension", "ship_force_x", "ship_force_y", "ship_force_z",
                  "tow_force_y", "tow_force_z", "tow_force_body_x", "tow_force_body_y", "tow_force_body_z",
                  "cable_moment_x", "cable_moment_y", "cable_moment_z", "cable_moment_body_x", "cable_moment_body_y",
                  "cable_moment_body_z", "deployed_length", "payout_rate",
-                 "tether_lowest_z", "length_on_seabed", "slack_elements", *TANGLE_FIELDS)
+                 "tether_lowest_z", "length_on_seabed", "slack_elements", *TANGLE_FIELDS, "max_compression")
 """The record's columns that describe the tether: a run without one (``tether.attached = false``)
 writes the others only."""
 
@@ -130,7 +133,7 @@ class NoTether:
     def tension(self, data) -> np.ndarray:
         return np.zeros(0)
 
-    element_tension = element_length = tension
+    element_tension = element_length = element_compression = tension
 
     def slack_count(self, data) -> int:
         return 0
@@ -348,6 +351,11 @@ class Readouts:
         return self._bt.element_length(self._sim.data)
 
     @property
+    def element_compression(self) -> np.ndarray:
+        """Push of every element allocated (N, >= 0; ``BoundTether.element_compression``)."""
+        return self._bt.element_compression(self._sim.data)
+
+    @property
     def slack_elements(self) -> int:
         """Deployed elements carrying no tension."""
         return self._bt.slack_count(self._sim.data)
@@ -433,4 +441,5 @@ class Readouts:
         return [d.time, float(np.linalg.norm(fs)), *fs, float(np.linalg.norm(fe)), *fe, *(R.T @ fe), *moment,
                 bt.deployed_length, self._run.winch.current_rate, ship[0], ship[1], *tow, math.degrees(yaw),
                 math.degrees(roll), math.degrees(pitch), speed, float(x[:, 2].min()), on_bottom,
-                bt.slack_count(d), *(R.T @ moment), *self.tangle_record(x)]
+                bt.slack_count(d), *(R.T @ moment), *self.tangle_record(x),
+                float(bt.element_compression(d).max(initial=0.0))]

@@ -273,11 +273,11 @@ class ScenarioRun:
         """Unstretched tether length (m) lying on the seabed (see ``Readouts.length_on_seabed``)."""
         return self.named.length_on_seabed(x)
 
-    def element_record(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """(every node (n+1, 3) m, element tension (n,) N, element length (n,) m), numbered
-        from the drum's core; nodes on the drum at the fairlead, their elements 0."""
+    def element_record(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """(every node (n+1, 3) m, element tension (n,) N, element length (n,) m, element push
+        (n,) N), numbered from the drum's core; nodes on the drum at the fairlead, their elements 0."""
         n = self.named
-        return n.element_nodes, n.element_tension, n.element_length
+        return n.element_nodes, n.element_tension, n.element_length, n.element_compression
 
     def close(self) -> None:
         self.sim.close()
@@ -394,5 +394,5 @@ def run(sc: Scenario, progress=None, keep_nodes: bool = True, video=None, on_sta
         info["video"] = {"file": str(rec.path), "frames": rec.frames, "fps": rec.s.fps, "camera": rec.s.camera,
                          "tension_scale_N": rec.scale}
     history = {"nodes": np.array([h[0] for h in hist]), "tension": np.array([h[1] for h in hist]),
-               "element_length": np.array([h[2] for h in hist])}
+               "element_length": np.array([h[2] for h in hist]), "compression": np.array([h[3] for h in hist])}
     return rows, history, info
