@@ -360,13 +360,17 @@ def vehicle_arrays(hydro, fins, propeller, r_g):
 
 @jit
 def vehicle_wrench(nu, R, z, dkind, dp, ckind, cp, gravity, MA, keep, DL, fade, DQ, Mlin, volume, r_b, hull, fins,
-                   deltas, prop, rpm, surface, z_origin, tau):
+                   deltas, prop, rpm, surface, z_origin, size, thr, thr_force, tau):
     """``vehicle.BoundVehicle``'s explicit wrench (body frame, N and N m about the origin) into
     ``tau`` (6,): -C_A(nu_r) nu_r (``keep``: 0 where an entry is left out), -D(nu_r) nu_r (rows of
     D_L faded by exp(-fade U_r)), M_A (omega x nu_r), the buoyancy at r_b, the hull's lift and
     drag, the fins' and the propeller's (``vehicle_arrays``), or a surface vessel's hydrostatics
     at its origin's height ``z_origin`` (m) in place of the buoyancy; the water at height ``z``
-    (m, <= 0) as codes (``profile_codes``). The NumPy reference: ``BoundVehicle.wrench``."""
+    (m, <= 0) as codes (``profile_codes``). A submerged vehicle at the surface (``wet_fraction``
+    of its hull of semi-axes ``size``, m) keeps that fraction of its buoyancy, added-mass and
+    damping forces and hull loads; a fin, the propeller or a thruster (rows of ``thr``: body
+    position, direction; its thrust now ``thr_force``, N, which MuJoCo applies) above the water
+    gives nothing (the thruster's is taken back). The NumPy reference: ``BoundVehicle.wrench``."""
     depth = max(-z, 0.0)
     rho = _density(dkind, dp, depth)
     u = np.zeros(3)
@@ -401,6 +405,11 @@ def vehicle_wrench(nu, R, z, dkind, dp, ckind, cp, gravity, MA, keep, DL, fade, 
     c2 = nu[3] * nr[1] - nu[4] * nr[0]
     for i in range(3):
         tau[i] += Mlin[i, 0] * c0 + Mlin[i, 1] * c1 + Mlin[i, 2] * c2
+    wet = 1.0
+    if surface[0] == 0.0:  # a submerged vehicle: what of it is under the water
+        wet = wet_fraction(R, z_origin, r_b, size)
+        for i in range(6):
+            tau[i] *= wet
     if surface[0] > 0.0:  # fossen.surface_restoring: buoyancy through the centre of gravity, its
         # change at the centre of flotation, righting moments; Surface.crossflow
         xf, yf = surface[8], surface[9]
@@ -429,8 +438,8 @@ def vehicle_wrench(nu, R, z, dkind, dp, ckind, cp, gravity, MA, keep, DL, fade, 
                 kk = -0.5 * rho * T * surface[12] * dx * abs(vy)
                 tau[1] += kk * vy
                 tau[5] += x * kk * vy
-    else:  # buoyancy at r_b (the weight is MuJoCo's)
-        B = rho * gravity * volume
+    else:  # buoyancy at r_b (the weight is MuJoCo's), of the part under the water
+        B = rho * gravity * volume * wet
         fb0, fb1, fb2 = R[2, 0] * B, R[2, 1] * B, R[2, 2] * B
         tau[0] += fb0
         tau[1] += fb1
@@ -447,7 +456,7 @@ def vehicle_wrench(nu, R, z, dkind, dp, ckind, cp, gravity, MA, keep, DL, fade, 
             AR = D * D / area
             CL = math.pi * AR / (1.0 + math.sqrt(1.0 + (AR / 2.0) ** 2)) * alpha
             CD = cd0 + CL * CL / (math.pi * oswald * AR)
-            q = 0.5 * rho * U * U * area
+            q = 0.5 * rho * U * U * area * wet
             lift, drag = q * CL, q * CD
             sgn = 1.0 if nr[0] >= 0.0 else -1.0
             tau[0] += -drag * nr[0] / hx + lift * sgn * math.sin(alpha)
@@ -457,7 +466,7 @@ def vehicle_wrench(nu, R, z, dkind, dp, ckind, cp, gravity, MA, keep, DL, fade, 
             x = (k + 0.5) * dx - 0.5 * L
             vy = nr[1] + x * nr[5]
             vz = nr[2] - x * nr[4]
-            kk = -0.5 * rho * D * cd2d * dx * math.hypot(vy, vz)
+            kk = -0.5 * rho * D * cd2d * dx * math.hypot(vy, vz) * wet
             tau[1] += kk * vy
             tau[2] += kk * vz
             tau[4] -= x * kk * vz
@@ -468,6 +477,8 @@ def vehicle_wrench(nu, R, z, dkind, dp, ckind, cp, gravity, MA, keep, DL, fade, 
         sdot = -lz * nr[1] + ly * nr[2]  # the span (0, -lz, ly) . v
         U2 = nr[0] * nr[0] + nr[1] * nr[1] + nr[2] * nr[2] - sdot * sdot
         q = 0.5 * rho * U2 * fins[k, 6]
+        if surface[0] == 0.0 and z_origin + R[2, 0] * px + R[2, 1] * py + R[2, 2] * pz > 0.0:
+            q = 0.0  # (a fin in the air)
         d = deltas[k]
         stall = fins[k, 8]
         if stall < 0.0 or abs(d) <= stall:
@@ -494,7 +505,33 @@ def vehicle_wrench(nu, R, z, dkind, dp, ckind, cp, gravity, MA, keep, DL, fade, 
             T = rho * D ** 4 * prop[5] * abs(n) * n
             Q = rho * D ** 5 * prop[8] * abs(n) * n
         thrust = (1.0 - prop[10]) * T
+        if surface[0] == 0.0 and z_origin + R[2, 0] * prop[1] + R[2, 1] * prop[2] + R[2, 2] * prop[3] > 0.0:
+            thrust, Q = 0.0, 0.0  # (a propeller in the air)
         tau[0] += thrust
         tau[3] += prop[12] * Q
         tau[4] += prop[3] * thrust
         tau[5] -= prop[2] * thrust
+    if surface[0] == 0.0:
+        for k in range(thr.shape[0]):  # a thruster in the air: MuJoCo's thrust taken back
+            px, py, pz = thr[k, 0], thr[k, 1], thr[k, 2]
+            if z_origin + R[2, 0] * px + R[2, 1] * py + R[2, 2] * pz > 0.0:
+                fx, fy, fz = thr_force[k] * thr[k, 3], thr_force[k] * thr[k, 4], thr_force[k] * thr[k, 5]
+                tau[0] -= fx
+                tau[1] -= fy
+                tau[2] -= fz
+                tau[3] -= py * fz - pz * fy
+                tau[4] -= pz * fx - px * fz
+                tau[5] -= px * fy - py * fx
+
+
+@jit
+def wet_fraction(R, z_origin, r_b, size):
+    """The fraction (0 to 1) of a submerged vehicle's hull under the water: its centre of
+    buoyancy (``r_b``, body frame) at height z_b and its vertical extent h = 2 sqrt(sum_k
+    (R_zk a_k)^2) (the ellipsoid of semi-axes ``size``, m, turned by ``R``), taken linear in
+    between: clip(1/2 - z_b / h, 0, 1)."""
+    zb = z_origin + R[2, 0] * r_b[0] + R[2, 1] * r_b[1] + R[2, 2] * r_b[2]
+    h = 2.0 * math.sqrt((R[2, 0] * size[0]) ** 2 + (R[2, 1] * size[1]) ** 2 + (R[2, 2] * size[2]) ** 2)
+    if h <= 0.0:
+        return 1.0 if zb <= 0.0 else 0.0
+    return min(max(0.5 - zb / h, 0.0), 1.0)

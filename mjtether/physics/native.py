@@ -385,7 +385,7 @@ def _body(mp, dp, table, offs):
 
 # A vehicle's table (BoundVehicle.native_table)
 V_INT, V_REAL, V_MA, V_KEEP, V_DL, V_FADE, V_DQ, V_MLIN, V_RB, V_HULL, V_FINS, V_PROP, V_SURFACE, V_DP, V_CP, \
-    V_FIN_ACT, V_AXES, V_EXPLICIT = range(18)
+    V_FIN_ACT, V_AXES, V_EXPLICIT, V_SIZE, V_THR, V_THR_ACT = range(21)
 # V_INT: body id, first linear dof, first angular dof, density kind, current kind, propeller's
 # activation address (-1: none), added-mass tendons' wrap address, has an explicit remainder
 # V_REAL: gravity, volume
@@ -404,21 +404,28 @@ def _vehicle(mp, dp, table, offs):
         nu[k] = R[0, k] * qvel[dv] + R[1, k] * qvel[dv + 1] + R[2, k] * qvel[dv + 2]
         nu[3 + k] = qvel[dw + k]
     fin_act = _ints(table, V_FIN_ACT)
+    thr_act = _ints(table, V_THR_ACT)
     nact = I[5] + 1
     for i in range(fin_act.shape[0]):
         nact = max(nact, fin_act[i] + 1)
+    for i in range(thr_act.shape[0]):
+        nact = max(nact, thr_act[i] + 1)
     act = numba.carray(_f64(_field(dp, offs, ACT)), (nact,)) if nact > 0 else np.zeros(1)
     deltas = np.empty(fin_act.shape[0])
     for i in range(fin_act.shape[0]):
         deltas[i] = act[fin_act[i]]
     rpm = act[I[5]] if I[5] >= 0 else 0.0
+    thr_force = np.empty(thr_act.shape[0])
+    for i in range(thr_act.shape[0]):
+        thr_force[i] = act[thr_act[i]]
     MA = _vec(table, V_MA).reshape((6, 6))
     tau = np.empty(6)
     compiled.vehicle_wrench(nu, R, min(z, 0.0), I[3], _vec(table, V_DP), I[4], _vec(table, V_CP), P[0], MA,
                             _vec(table, V_KEEP).reshape((6, 6)), _vec(table, V_DL).reshape((6, 6)),
                             _vec(table, V_FADE), _vec(table, V_DQ), _vec(table, V_MLIN).reshape((3, 3)), P[1],
                             _vec(table, V_RB), _vec(table, V_HULL), _vec(table, V_FINS).reshape((-1, 10)), deltas,
-                            _vec(table, V_PROP), rpm, _vec(table, V_SURFACE), z, tau)
+                            _vec(table, V_PROP), rpm, _vec(table, V_SURFACE), z, _vec(table, V_SIZE),
+                            _vec(table, V_THR).reshape((-1, 6)), thr_force, tau)
     if I[7]:  # the rest of M_A nu', from the last step's acceleration
         qacc = numba.carray(_f64(_field(dp, offs, QACC)), (nv,))
         a = np.empty(6)

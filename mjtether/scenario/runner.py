@@ -326,6 +326,35 @@ class TangleMonitor:
         return False
 
 
+class SurfaceWatch:
+    """A submerged vehicle robot breaking the surface (part of its hull out of the water:
+    ``BoundVehicle.wet_fraction`` below 1), checked at each recorded sample: an event logged once
+    each time it goes out, with the time and how much of it is out; with ``robot.stop_at_surface``
+    the first ends the run."""
+
+    def __init__(self, vehicle, stop: bool):
+        self.vehicle, self.stop = vehicle, stop
+        self.events = []
+        self.stopped = ""
+        self._out = False
+
+    def check(self, run) -> bool:
+        d = run.sim.data
+        wet = self.vehicle.wet_fraction(d)
+        out = wet < 1.0
+        if out and not self._out:
+            self.events.append({"time_s": float(run.sim.time), "kind": "breach",
+                                "position_m": [float(v) for v in d.xpos[self.vehicle.id]],
+                                "what": f"the vehicle broke the surface ({100 * (1 - wet):.0f} % of its hull out of "
+                                        "the water)"})
+            if self.stop and not self.stopped:
+                self.stopped = f"robot.stop_at_surface: {self.events[-1]['what']} at t = {run.sim.time:.2f} s"
+                self._out = out
+                return True
+        self._out = out
+        return False
+
+
 def run(sc: Scenario, progress=None, keep_nodes: bool = True, video=None, on_start=None, on_end=None):
     """Simulate ``sc``; returns (rows (n, len(RECORD_FIELDS)), history, info). ``history`` has
     ``nodes`` (n, e+1, 3) m, ``tension`` (n, e) N and ``element_length`` (n, e) m for every one
@@ -352,6 +381,10 @@ def run(sc: Scenario, progress=None, keep_nodes: bool = True, video=None, on_sta
         monitor = TangleMonitor(sc.tangle) if runner.tethered else None
         if monitor is not None:
             monitor.check(runner)
+        surface = None
+        if runner.vehicle is not None and runner.vehicle.hydro.surface is None:
+            surface = SurfaceWatch(runner.vehicle, sc.robot.stop_at_surface)
+            surface.check(runner)
         if rec is not None and rec.due(runner.sim.time):
             rec.capture()
         for k in range(1, n_steps + 1):
@@ -362,6 +395,7 @@ def run(sc: Scenario, progress=None, keep_nodes: bool = True, video=None, on_sta
                 if keep_nodes:
                     hist.append(runner.element_record())
                 stop = monitor is not None and monitor.check(runner)
+                stop = (surface is not None and surface.check(runner)) or stop
             if rec is not None and rec.due(runner.sim.time):
                 rec.capture()
             if progress and (k % every == 0 or k == n_steps or stop):
@@ -390,6 +424,10 @@ def run(sc: Scenario, progress=None, keep_nodes: bool = True, video=None, on_sta
         info["tangle_events"] = monitor.events
         if monitor.stopped:
             info["stopped"] = monitor.stopped
+    if surface is not None:
+        info["surface_events"] = surface.events
+        if surface.stopped:
+            info["stopped"] = surface.stopped
     if rec is not None:
         info["video"] = {"file": str(rec.path), "frames": rec.frames, "fps": rec.s.fps, "camera": rec.s.camera,
                          "tension_scale_N": rec.scale}

@@ -457,6 +457,9 @@ class Robot(Section):
     waypoints: tuple | None = param(None, -1e6, 1e6, "m, m, m, m/s", "vehicle: instead of setpoints, a route of "
                                     "[x, y, depth, speed] rows flown by line-of-sight guidance from the start; the "
                                     "vehicle holds station at the last one", kind="rows4", optional=True)
+    stop_at_surface: bool = param(False, doc="vehicle: true ends the run when the vehicle breaks the surface (part "
+                                  "of its hull out of the water; logged in summary.json's run.surface_events either "
+                                  "way)")
     lookahead: float = param(5.0, 0.1, 1e4, "m", "vehicle: line-of-sight lookahead distance along the route")
     los_integral_gain: float = param(0.0, 0.0, 10.0, "", "vehicle: kappa of integral line-of-sight guidance (Fossen "
                                      "2021, Sec. 12.3.3), which takes out a current's cross-track offset; 0: plain LOS")

@@ -206,7 +206,7 @@ def build_vehicle(spec: mujoco.MjSpec, vs: VehicleSpec, name: str = "vehicle", p
         add_fin(spec, name, fin)
     if vs.propeller is not None:
         add_propeller(spec, name, vs.propeller)
-    vm.fins, vm.propeller = vs.fins, vs.propeller
+    vm.fins, vm.propeller, vm.thrusters = vs.fins, vs.propeller, tuple(vs.thrusters)
     return vm
 
 

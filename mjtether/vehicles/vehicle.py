@@ -21,7 +21,11 @@ and its propeller's thrust (``propeller``), and the term M_A (omega x nu_r) that
 tendons' world-frame inertia into Fossen's body-frame M_A nu_r' (for a current uniform and
 steady in the world: nu_c' = -omega x nu_c in the body). The current is the water column's at the
 body origin's depth; its change with depth along the vehicle's path (w du/dz) is neglected in
-nu_c'. The vehicle is taken fully submerged.
+nu_c'. At the surface a submerged vehicle keeps the fraction of its hull under the water
+(``compiled.wet_fraction``: its centre of buoyancy's height over its drawn ellipsoid's vertical
+extent) of its buoyancy, added-mass and damping forces and hull loads, and a fin, its propeller
+or a thruster in the air gives nothing: a positively buoyant vehicle floats, it does not fly.
+(The added mass in MuJoCo's mass matrix stays whole.)
 
 Units SI; world z up; body x forward, y left, z up.
 """
@@ -196,6 +200,8 @@ class VehicleModel:
     hydro: VehicleHydro
     fins: tuple = ()  # fins.Fin, their actuators named {name}/{fin.name}
     propeller: Propeller | None = None  # its actuator named {name}/{propeller.name}
+    size: tuple = (0.5, 0.1, 0.1)  # m, the drawn ellipsoid's semi-axes: the hull's extent at the surface
+    thrusters: tuple = ()  # thruster.Thruster, their actuators named {name}/{thruster.name}
 
 
 def add_vehicle(spec: mujoco.MjSpec, name: str, *, mass: float, inertia, hydro: VehicleHydro,
@@ -237,7 +243,7 @@ def add_vehicle(spec: mujoco.MjSpec, name: str, *, mass: float, inertia, hydro: 
         t = spec.add_tendon(name=f"{name}/added_mass{k}")
         for j, axis in enumerate("xyz"):
             t.wrap_joint(f"{name}/{axis}", float(j == k))
-    return VehicleModel(name, hydro)
+    return VehicleModel(name, hydro, size=tuple(float(v) for v in size))
 
 
 class BoundVehicle:
@@ -272,6 +278,10 @@ class BoundVehicle:
         self._zeroed = tuple(np.array(ij, dtype=int) for ij in zip(*vm.hydro.coriolis_zeroed)) or None
         self._fade = vm.hydro.linear_damping_fade if np.any(vm.hydro.linear_damping_fade) else None
         self.fins, self.propeller = tuple(vm.fins), vm.propeller
+        self._size = np.asarray(vm.size, dtype=float)
+        self._thr = np.array([[*t.position, *t.direction] for t in vm.thrusters], dtype=float).reshape(-1, 6)
+        self._thr_act = np.array([model.actuator_actadr[model.actuator(f"{vm.name}/{t.name}").id]
+                                  for t in vm.thrusters], dtype=np.int64)
         # the fins' angles and the shaft speed are their actuators' activations
         self._fin_act = np.array([model.actuator_actadr[model.actuator(f"{vm.name}/{f.name}").id]
                                   for f in self.fins], dtype=int)
@@ -304,11 +314,19 @@ class BoundVehicle:
         return [ints, np.array([self.water.gravity, h.volume], dtype=float), f(h.added_mass), f(keep),
                 f(h.linear_damping), f(h.linear_damping_fade), f(h.quadratic_damping), f(self._M_lin), f(self._r_b),
                 f(hull), f(fins), f(prop), f(surface), dp, cp, np.asarray(self._fin_act, dtype=np.int64), f(self._axes),
-                f(self._explicit)]
+                f(self._explicit), f(self._size), f(self._thr), np.asarray(self._thr_act, dtype=np.int64)]
 
     def _orient(self, R: np.ndarray) -> None:
         """Turn the added-mass tendons along the linear block's principal axes at orientation R."""
         self._prm[:] = (R @ self._axes).T
+
+    def wet_fraction(self, data) -> float:
+        """The fraction of its hull under the water now (``compiled.wet_fraction``; 1 for a
+        surface vessel, whose hydrostatics are its own)."""
+        if self.hydro.surface is not None:
+            return 1.0
+        return float(compiled.wet_fraction(data.xmat[self.id].reshape(3, 3), float(data.xpos[self.id][2]), self._r_b,
+                                           self._size))
 
     def velocity(self, data) -> tuple[np.ndarray, np.ndarray]:
         """(nu (6,), body frame: linear velocity of the origin and angular velocity; R body to
@@ -336,15 +354,24 @@ class BoundVehicle:
         tau = -(CA @ nu_r) - damping_force(nu_r, DL, h.quadratic_damping)
         tau[:3] += self._M_lin @ cross(nu[3:], nu_r[:3])
         rho = float(self.water.rho(z)[0])
+        z0 = float(data.xpos[self.id][2])
+        wet = 1.0 if h.surface is not None else compiled.wet_fraction(R, z0, self._r_b, self._size)
+        tau *= wet
+        dry = (lambda p: h.surface is None and z0 + float(R[2] @ np.asarray(p, dtype=float)) > 0.0)  # noqa: E731
         if h.hull is not None:
-            tau += h.hull.wrench(nu_r, rho)
+            tau += wet * h.hull.wrench(nu_r, rho)
         for fin, adr in zip(self.fins, self._fin_act):
-            tau += fin_wrench(nu_r, float(data.act[adr]), fin, rho)
-        if self.propeller is not None:
+            if not dry(fin.position):
+                tau += fin_wrench(nu_r, float(data.act[adr]), fin, rho)
+        if self.propeller is not None and not dry(self.propeller.position):
             p = self.propeller
             thrust, torque = p.thrust(float(data.act[self._prop_act]), float(nu_r[0]), rho)
             r = p.position
             tau += (thrust, 0.0, 0.0, torque, r[2] * thrust, -r[1] * thrust)
+        for row, adr in zip(self._thr, self._thr_act):  # a thruster in the air: MuJoCo's thrust taken back
+            if dry(row[:3]):
+                f = float(data.act[adr]) * row[3:]
+                tau -= np.r_[f, np.cross(row[:3], f)]
         if h.surface is not None:  # floating: hydrostatics about the design waterline
             sf = h.surface
             tau += surface_restoring(R, float(data.xpos[self.id][2]), rho, self.water.gravity, h.volume,
@@ -352,7 +379,7 @@ class BoundVehicle:
                                      sf.centre_of_flotation)
             tau += sf.crossflow(nu_r, rho)
         else:
-            B = rho * self.water.gravity * h.volume
+            B = rho * self.water.gravity * h.volume * wet
             tau -= restoring_force(R, 0.0, B, np.zeros(3), self._r_b)  # the buoyancy (MuJoCo weighs it)
         if self._has_explicit:  # the rest of M_A nu', from the last step's acceleration
             a = np.concatenate([R.T @ data.qacc[self._v] - cross(nu[3:], nu[:3]), data.qacc[self._w]])
@@ -370,7 +397,8 @@ class BoundVehicle:
         z = float(data.xpos[self.id][2])
         compiled.vehicle_wrench(nu, R, min(z, 0.0), *self._codes, self.water.gravity, h.added_mass, keep,
                                 h.linear_damping, h.linear_damping_fade, h.quadratic_damping, self._M_lin, h.volume,
-                                self._r_b, hull, fins, self._deltas, prop, rpm, surface, z, tau)
+                                self._r_b, hull, fins, self._deltas, prop, rpm, surface, z, self._size, self._thr,
+                                data.act[self._thr_act] if len(self._thr_act) else np.zeros(0), tau)
         tau = tau.copy()
         if self._has_explicit:  # the rest of M_A nu', from the last step's acceleration
             a = np.concatenate([R.T @ data.qacc[self._v] - cross(nu[3:], nu[:3]), data.qacc[self._w]])

@@ -210,7 +210,8 @@ def test_vehicle_wrench_matches_the_numpy_kernel(monkeypatch, name, density, cur
     ``remus100_stall``, shaft speeds ahead and astern) in each water column: the compiled
     ``vehicle_wrench`` against ``BoundVehicle.wrench``'s NumPy path (hull lift and drag,
     cross-flow, fins, propeller, C_A with its zeroed entries, faded damping, buoyancy, a surface
-    vessel's hydrostatics about its centre of flotation and its cross-flow drag)."""
+    vessel's hydrostatics about its centre of flotation and its cross-flow drag; a submerged
+    vehicle at the surface, its hull partly wet, fins and thrusters in the air)."""
     from mjtether.vehicles.files import build_vehicle
 
     water = wm.WaterColumn(depth=100.0, density=density, current=current)
@@ -218,9 +219,10 @@ def test_vehicle_wrench_matches_the_numpy_kernel(monkeypatch, name, density, cur
     build_vehicle(spec, _vehicle(name), "auv")
     m = spec.compile()
     states = []
-    for _ in range(50):
+    for k in range(50):
         q = RNG.normal(size=4)
-        z = RNG.uniform(-0.3, 0.3) if name == "otter" else -RNG.uniform(0.5, 60.0)
+        z = RNG.uniform(-0.3, 0.3) if name == "otter" else -RNG.uniform(0.5, 60.0) if k % 2 else \
+            RNG.uniform(-0.8, 0.5)  # (every other one at the surface: partly wet, fins and thrusters in the air)
         qpos = np.r_[RNG.normal(size=2), z, q / np.linalg.norm(q)]
         qvel = RNG.normal(size=6) * [1.5, 1.0, 1.0, 0.5, 0.5, 0.5]
         act = RNG.uniform(-0.5, 0.5, size=m.na)
