@@ -201,8 +201,27 @@ def drum_omega(tether: TetherSpec, water: WaterColumn, tension: float, shortest:
     return math.sqrt(max(float(np.linalg.eigvalsh(Kf)[-1]), 0.0))
 
 
+def ea_timestep(tether: TetherSpec, water: WaterColumn) -> float:
+    """Largest step (s) at which the tether's elements keep the EA asked for (``cable.builder``:
+    beyond it the solver cannot slow the axial mode enough even at its largest impedance, and
+    makes each element as stiff as the step allows: a softer cable): AXIAL_OMEGA_DT /
+    (omega_ax sqrt(1 - MAX_IMP)), omega_ax = sqrt(EA / l x 2 / m) with m an interior node's
+    inertia along the cable (its added mass too, for ``added_mass = "isotropic"``). ``math.inf``
+    for an inextensible tether (EA None: always as stiff as the step allows)."""
+    from mjtether.cable.builder import AXIAL_OMEGA_DT, MAX_IMP
+    if tether.EA is None:
+        return math.inf
+    l = tether.segment_length
+    m = tether.mu * l
+    if tether.added_mass == "isotropic":
+        m += tether.ca_normal * _water_rho(water)[0] * tether.area * l  # (the lightest water: the shortest step)
+    omega = math.sqrt(tether.EA / l * 2.0 / m)
+    return AXIAL_OMEGA_DT / (omega * math.sqrt(1.0 - MAX_IMP))
+
+
 def max_timestep(tether: TetherSpec, water: WaterColumn, relative_speed: float | None = None,
-                 tension: float | None = None, *, payout: bool | str = False, walker: bool = False) -> float:
+                 tension: float | None = None, *, payout: bool | str = False, walker: bool = False,
+                 keep_EA: bool = False) -> float:
     """Largest stable step (s) for ``tether`` in ``water``: ``SAFETY`` x the smallest of the drag
     limit 2 / lambda and the string/bending limit 2 / omega (see the module docstring).
 
@@ -217,6 +236,9 @@ def max_timestep(tether: TetherSpec, water: WaterColumn, relative_speed: float |
             at times too); the short drum element then lowers the step.
         walker: the model also holds the walker of ``mjtether.walker``: at most
             ``WALKER_MAX_TIMESTEP``.
+        keep_EA: also at most ``ea_timestep``, so that the elements keep the EA asked for
+            (without it, a stiff cable at the stable step runs softer: a 100 m line of EA 1e7 N
+            at about 1e6 N; the run then says so).
 
     ``math.inf`` if nothing limits the step (no current, no tension, no bending stiffness)."""
     if payout not in _PAYOUT:
@@ -236,4 +258,6 @@ def max_timestep(tether: TetherSpec, water: WaterColumn, relative_speed: float |
     if omega > 0:
         limits.append(2.0 / omega)
     dt = SAFETY * min(limits) if limits else math.inf
+    if keep_EA:
+        dt = min(dt, ea_timestep(tether, water))
     return min(dt, WALKER_MAX_TIMESTEP) if walker else dt

@@ -17,11 +17,12 @@ from __future__ import annotations
 
 import math
 import time
+import warnings
 
 import mujoco
 import numpy as np
 
-from mjtether.cable import builder
+from mjtether.cable import builder, stability
 from mjtether.scenario import Scenario, start
 from mjtether.simulation import Simulation
 
@@ -47,6 +48,10 @@ def manoeuvre_from(robot, vs) -> Manoeuvre | None:
     return Manoeuvre(robot.manoeuvre, robot.manoeuvre_start_s, math.radians(robot.rudder_deg),
                      math.radians(robot.zigzag_heading_deg), [math.radians(a) for a in robot.spiral_rudders_deg],
                      robot.spiral_step_s, turn_sign=math.copysign(1.0, yaw))
+
+
+class EAWarning(UserWarning):
+    """The cable runs softer than its EA at the scenario's time step (``ScenarioRun._check_EA``)."""
 
 
 class RunFailed(RuntimeError):
@@ -164,6 +169,7 @@ class ScenarioRun:
             if self.initial is not None and not drape:  # the steady state's seabed friction, carried into the run
                 self.sim.tether().preload_friction(self.sim.data, self.initial.tension)
             self.bt = self.sim.tether() if self.tethered else None
+            self.effective_EA = self._check_EA() if self.tethered else None
             if empty:
                 self.bt.set_length(0.0, rate=0.0)
                 self.winch.length = 0.0
@@ -182,6 +188,29 @@ class ScenarioRun:
             self.sim.close()  # a run that cannot start leaves nothing registered
             raise
         self.rated_load = sc.tether.rated_load
+
+    def _check_EA(self):
+        """The element furthest below the EA asked for: {"asked_N", "effective_N", "ratio"} (ratio
+        1: as asked), with a warning, once, where the time step makes the cable softer (``builder``: the
+        solver cannot slow its axial mode enough), naming the effective EA and the step that
+        would keep it (``stability.ea_timestep``); None for an inextensible tether."""
+        asked = self.makeup.element_EA[self.bt.drum.first:] if self.makeup is not None else self.tether_spec.EA
+        if asked is None:
+            return None
+        eff = np.asarray(self.bt.effective_EA, dtype=float)
+        asked = np.broadcast_to(np.asarray(asked, dtype=float), eff.shape)
+        ratio = eff / asked
+        worst = int(np.argmin(ratio))
+        if ratio[worst] < 0.99:
+            dt = self.sc.simulation.timestep
+            if self.makeup is None:
+                keep = f"; simulation.timestep = {stability.ea_timestep(self.tether_spec, self.water):.3g} s or less keeps it"
+            else:
+                keep = f"; a step {ratio[worst] ** 0.5:.3g} times this one keeps it"
+            warnings.warn(f"tether.EA: at simulation.timestep = {dt:g} s the cable is as stiff as the step allows: "
+                          f"effective EA {eff[worst]:.3g} N of the {asked[worst]:.3g} N asked ({100 * ratio[worst]:.0f} "
+                          f"%: it stretches {1 / ratio[worst]:.3g} times as much){keep}", EAWarning, stacklevel=3)
+        return {"asked_N": float(asked[worst]), "effective_N": float(eff[worst]), "ratio": float(ratio[worst])}
 
     def _vessel_pilot(self, scene):
         """Turn the vessel to ``ship.heading_deg`` and give it its autopilot: station on
@@ -418,6 +447,7 @@ def run(sc: Scenario, progress=None, keep_nodes: bool = True, video=None, on_sta
     finally:
         runner.close()
     info = {"initial_state": runner.initial_note, "tethered": runner.tethered, "vehicle": bool(runner.named.hulls),
+            "effective_EA": runner.effective_EA,
             "wall_time_s": wall, "simulated_s": n_steps * dt,
             "realtime_factor": n_steps * dt / wall if wall > 0 else math.inf, "steps": n_steps}
     if monitor is not None:
