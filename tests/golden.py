@@ -85,6 +85,9 @@ and say which here:
   bit for bit.
 * issue 30: the record gained ``max_compression`` at its end; every column before it, the nodes
   and tensions of every run unchanged bit for bit.
+* issue 30: the tangle monitor's vehicle clearance counts the part of the first element beyond
+  the hull (it had left the whole element out): ``cable_clearance`` of ``hong2020_platform``,
+  ``otter_rov_launch``, ``remus_fibre_payout`` and ``rov_umbilical`` changed, nothing else.
 
     python tests/golden.py   # rewrites tests/data/golden_runs.npz
 """

@@ -48,14 +48,22 @@ def vehicle_clearance(nodes: np.ndarray, hull_a, hull_b, radius: float, points=(
     """Smallest clearance (m) between the cable ``nodes`` and a vehicle: its hull, the capsule
     ``hull_a``-``hull_b`` of ``radius``, and its ``points`` (thrusters, fins, propeller), leaving
     out the cable within ``exclude`` m of arc from the end it is tied to (the last node with
-    ``from_end``, else the first). Returns (clearance, the cable's closest point); clearance is
+    ``from_end``, else the first; an element that reaches beyond it counts from there on). Returns (clearance, the cable's closest point); clearance is
     negative where the cable passes through the hull, +inf with no cable left to check."""
     s = arc_lengths(nodes)
     s = s[-1] - s if from_end else s
-    keep = np.minimum(s[:-1], s[1:]) >= exclude  # elements wholly beyond the exclusion
+    keep = np.maximum(s[:-1], s[1:]) > exclude  # elements reaching beyond the exclusion
     if not keep.any():
         return math.inf, nodes[-1 if from_end else 0].copy()
-    p0, p1 = nodes[:-1][keep], nodes[1:][keep]
+    p0, p1 = nodes[:-1][keep].copy(), nodes[1:][keep].copy()
+    s0, s1 = s[:-1][keep], s[1:][keep]
+    # an element partly within the exclusion: only its part beyond it (the hull's length of arc
+    # from the tow point), not the whole element, is left out
+    for q, sq, other, so in ((p0, s0, p1, s1), (p1, s1, p0, s0)):
+        cut = sq < exclude
+        if cut.any():
+            f = ((exclude - sq[cut]) / (so[cut] - sq[cut]))[:, None]
+            q[cut] = q[cut] + f * (other[cut] - q[cut])
     a, b = np.asarray(hull_a, dtype=float), np.asarray(hull_b, dtype=float)
     # only elements that can be the nearest: midpoints within the nearest midpoint's distance
     # plus an element and the vehicle's extent (its points included)

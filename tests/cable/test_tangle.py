@@ -149,3 +149,19 @@ def test_a_scripted_crossing_is_logged_when_and_where_it_happens():
     assert first is not None
     assert events[0]["time_s"] == pytest.approx(first[0], abs=1e-9)
     assert np.linalg.norm(np.array(events[0]["place_m"]) - first[1]) < 0.1
+
+
+def test_the_vehicle_clearance_starts_at_the_hull_not_at_the_first_node():
+    """A 1.6 m hull (capsule on x from 0 to 1.6 m, radius 0.1 m, tow point at its tail, x = 0) and a
+    cable whose first element, 5 m long, runs from the tow point to (4, 0.5, 0): past 1.6 m of arc
+    (the hull's length, left out) it runs alongside the hull. By hand: at arc 1.6 m the cable is at
+    (1.5876, 0.1985, 0), 0.1985 m from the hull's axis, so 0.0985 m from its surface, the nearest
+    point of the rest of the element (it only moves away). The whole first element used to be left
+    out (clearance +inf)."""
+    from mjtether.cable import tangle as tg
+    nodes = np.array([[0.0, 0.0, 0.0], [4.0, 0.5, 0.0], [8.0, 1.0, 0.0]])[::-1]  # (tied at the last node)
+    c, where = tg.vehicle_clearance(nodes, [0.0, 0.0, 0.0], [1.6, 0.0, 0.0], 0.1, exclude=1.6, from_end=True)
+    u = np.array([4.0, 0.5, 0.0]) / np.hypot(4.0, 0.5)
+    p = 1.6 * u
+    assert c == pytest.approx(p[1] - 0.1, abs=1e-9)
+    assert np.allclose(where, p, atol=1e-9)
