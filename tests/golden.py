@@ -88,6 +88,9 @@ and say which here:
 * issue 30: the tangle monitor's vehicle clearance counts the part of the first element beyond
   the hull (it had left the whole element out): ``cable_clearance`` of ``hong2020_platform``,
   ``otter_rov_launch``, ``remus_fibre_payout`` and ``rov_umbilical`` changed, nothing else.
+* issue 30: the REMUS 100's volume is its mass over its trim water's density exactly (it was
+  rounded to 7 figures): the REMUS and fibre-paying AUV runs moved by at most 8e-7 of a column's
+  largest value; every other run unchanged bit for bit.
 
     python tests/golden.py   # rewrites tests/data/golden_runs.npz
 """

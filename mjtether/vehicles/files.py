@@ -7,10 +7,10 @@ The file's tables (units SI; body frame x forward, y left, z up; see ``vehicle``
 
     [vehicle]      name, mass, inertia (3 principal moments, or 6: Ixx, Iyy, Izz, Ixy, Ixz, Iyz
                    of the matrix about the centre of gravity), centre_of_gravity, size (drawn
-                   ellipsoid semi-axes),
-                   tow_point, sources (a table: parameter -> where it comes from)
-    [hydro]        volume, centre_of_buoyancy, added_mass, linear_damping, quadratic_damping,
-                   linear_damping_fade, coriolis_zeroed
+                   ellipsoid semi-axes), tow_point, water_density (kg/m^3: the water it is
+                   trimmed for, or identified in), sources (a table: parameter -> where it comes from)
+    [hydro]        volume (m^3, or "neutral": mass / water_density, exactly), centre_of_buoyancy,
+                   added_mass, linear_damping, quadratic_damping, linear_damping_fade, coriolis_zeroed
     [hull]         length, diameter, axial_cd, crossflow_cd, reference_area, oswald, strips
                    (a torpedo's hull lift and drag, ``vehicle.Hull``)
     [surface]      waterplane_area, gm_t, gm_l, max_volume, centre_of_flotation, length, draft,
@@ -44,7 +44,7 @@ from .thruster import Thruster, add_thruster
 from .vehicle import Hull, Surface, VehicleHydro, VehicleModel, add_vehicle
 
 KEYS = {
-    "vehicle": {"name", "mass", "inertia", "centre_of_gravity", "size", "tow_point", "sources"},
+    "vehicle": {"name", "mass", "inertia", "centre_of_gravity", "size", "tow_point", "water_density", "sources"},
     "hydro": {"volume", "centre_of_buoyancy", "added_mass", "linear_damping", "quadratic_damping",
               "linear_damping_fade", "coriolis_zeroed"},
     "hull": {"length", "diameter", "axial_cd", "crossflow_cd", "reference_area", "oswald", "strips"},
@@ -116,6 +116,7 @@ class VehicleSpec:
     autopilot: Autopilot = field(default_factory=Autopilot)
     sources: dict = field(default_factory=dict)
     path: str = ""
+    water_density: float | None = None  # kg/m^3: the water the vehicle is trimmed for (None: not stated)
 
     @property
     def weight(self) -> float:
@@ -158,6 +159,14 @@ def load_vehicle(name_or_path) -> VehicleSpec:
     for table, item, key in (("vehicle", v, "mass"), ("vehicle", v, "inertia"), ("hydro", h, "volume")):
         if key not in item:
             raise ValueError(f"{where}: {table}.{key} is required")
+    rho = v.get("water_density")
+    if rho is not None and not (isinstance(rho, (int, float)) and 900.0 <= rho <= 1100.0):
+        raise ValueError(f"{where}: vehicle.water_density must be in [900, 1100] kg/m^3, got {rho!r}")
+    if h["volume"] == "neutral":  # neutrally buoyant in the water it is trimmed for, exactly
+        if rho is None or not (isinstance(v["mass"], (int, float)) and v["mass"] > 0):
+            raise ValueError(f"{where}: hydro.volume = \"neutral\" needs vehicle.mass (kg) and vehicle.water_density "
+                             "(kg/m^3)")
+        h = {**h, "volume": float(v["mass"]) / float(rho)}
     try:
         hull = Hull(**tree["hull"]) if "hull" in tree else None
         surface = Surface(**tree["surface"]) if "surface" in tree else None
@@ -180,7 +189,7 @@ def load_vehicle(name_or_path) -> VehicleSpec:
                        size=tuple(v.get("size", (0.5, 0.2, 0.2))), tow_point=tuple(v.get("tow_point", (0.0, 0.0, 0.0))),
                        hydro=hydro, thrusters=thrusters, fins=fins, propeller=propeller, autopilot=autopilot,
                        sources=dict(v.get("sources", {})),
-                       path=str(p))
+                       path=str(p), water_density=None if rho is None else float(rho))
 
 
 def _fin(table: dict) -> Fin:

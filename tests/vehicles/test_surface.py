@@ -77,3 +77,27 @@ def test_the_hong_uuv_pitching_up_at_0_6_m_s_breaches_and_is_reported(tmp_path):
     assert len(events) >= 1 and 60.0 < events[0]["time_s"] < 120.0
     rows = np.genfromtxt(out / "timeseries.csv", delimiter=",", names=True)
     assert rows["robot_z_m"].max() < 0.0
+
+
+def test_every_shipped_vehicle_states_its_water_and_a_neutral_one_stays_put_in_it():
+    """Every shipped vehicle file says the water it is trimmed for; the REMUS 100, neutral in
+    Fossen's 1026 kg/m^3 (``hydro.volume = "neutral"``: its mass over that density), left at rest
+    20 m down in that water moves less than 1 mm in 60 s (its volume rounded to 7 figures had it
+    rise 2.7 mm)."""
+    from mjtether.vehicles.files import shipped
+
+    for name in shipped():
+        assert load_vehicle(name).water_density is not None, name
+    vs = load_vehicle("remus100")
+    water = wm.WaterColumn(depth=100.0, density=wm.ConstantDensity(vs.water_density))
+    assert vs.mass == pytest.approx(vs.water_density * vs.hydro.volume, rel=1e-15)
+    spec = mujoco.MjSpec()
+    spec.option.timestep = 0.005
+    spec.option.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST
+    spec.option.gravity = [0.0, 0.0, -water.gravity]
+    vm = build_vehicle(spec, vs, "auv", pos=(0.0, 0.0, -20.0))
+    with Simulation(spec, water, bodies=[vm]) as sim:
+        start = sim.data.xpos[sim.bodies[0].id].copy()
+        sim.run(60.0)
+        moved = float(np.linalg.norm(sim.data.xpos[sim.bodies[0].id] - start))
+    assert moved < 1e-3, moved
