@@ -372,13 +372,25 @@ def _solve(args) -> int:
     sc = _load(args.scenario, args.set)
     if sc is None:
         return 2
+    from mjtether.scenario.runner import RunFailed
     try:
         r = ScenarioRun(sc)
     except ValueError as exc:
         print(f"mjtether solve: {exc}", file=sys.stderr)
         return 2
+    except RunFailed as exc:
+        print(f"mjtether solve: {exc}", file=sys.stderr)
+        return 1
     try:
         ss = r.initial
+        if not r.tethered:
+            print("no tether (tether.attached = false): nothing to solve; the vehicle runs alone, starting level "
+                  "and at rest")
+            return 0
+        if sc.winch.start_empty:
+            print("nothing deployed at the start (winch.start_empty): the vehicle starts at the fairlead with no "
+                  "cable out; its steady state is the empty one")
+            return 0
         if ss is None:
             print(f"mjtether solve: no steady state: {r.initial_note}", file=sys.stderr)
             return 1
@@ -399,8 +411,9 @@ def _print_khan(r) -> None:
     from .quasistatic import khan2023
 
     if not r.walker:
+        kind = {"anchor": "an anchor", "vehicle": "a vehicle"}.get(r.sc.robot.type, repr(r.sc.robot.type))
         print("  (the Khan et al. 2023 method applies to a walker moving at constant speed; "
-              "this scenario's robot is an anchor)")
+              f"this scenario's robot is {kind})")
         return
     speed = float(r.gait_drive.commands[0, 1])
     if speed <= 0.0:

@@ -198,7 +198,7 @@ def test_config_errors_carry_the_key_path():
 
 def test_numpy_scalars_are_valid_numbers():
     """Values computed with NumPy (np.int64, np.float32) are valid input, as Python numbers are."""
-    sc = Scenario(tether=Tether(segments=np.int64(10), length=np.float32(120.0)))
+    sc = Scenario(tether=Tether(segments=np.int64(10), length=np.float32(240.0)))
     assert sc.tether.segments == 10 and isinstance(sc.tether.segments, int)
 
 

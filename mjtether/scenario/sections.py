@@ -18,6 +18,8 @@ import dataclasses
 import math
 from dataclasses import dataclass
 
+import numpy as np
+
 from mjtether.cable.makeup import load_line_types
 from mjtether.cable.tether import MAX_LENGTH, MAX_SEGMENTS, TetherSpec
 from mjtether.cable.winch import MODES as WINCH_MODES
@@ -43,6 +45,12 @@ LINE_TYPES = load_line_types()
 def _default(cls, name: str):
     return next(f.default for f in dataclasses.fields(cls) if f.name == name)
 
+REACH_MARGIN = 2.0
+"""Slack (m) given to a vehicle's or vessel's tow point, which is off its position by up to about
+its half-length, when a tether is checked for reaching its ends (``Scenario._check_reach``)."""
+MAX_START_STRAIN = 0.1
+"""The most a tether may be stretched at the start (``scenario.start`` takes no steady state
+stretched more)."""
 WALKER_REACH = 1.0
 """How far (m) the walker's feet reach from its centre: it must start that far inside a
 bathymetry grid."""
@@ -614,6 +622,7 @@ class Scenario(Section):
         if w.seabed_z(*self.ship.position) >= -1.0:
             bad("ship.position", list(self.ship.position), f"the seabed there is at z = "
                 f"{w.seabed_z(*self.ship.position):.2f} m, above the surface or within 1 m of it")
+        self._check_reach(bad)
         if not self.tether.attached and r.type != "vehicle":
             bad("tether.attached", "false", f"only a vehicle can run without a tether (robot.type = {r.type!r})")
         wi = self.winch
@@ -646,6 +655,27 @@ class Scenario(Section):
             bad("simulation.output_interval", f"{s.output_interval:g} s", f"that is {est['samples']:.3g} samples of "
                 f"{est['elements']} elements, about {est['output_gb']:.3g} GB of results: over "
                 f"simulation.max_output_gb = {s.max_output_gb:g} GB (record less often, or raise it)")
+
+    def _check_reach(self, bad) -> None:
+        """A tether too short for its ends is refused before anything runs: the fairlead and the
+        robot's tow point (a walker's about 1 m over the seabed at its start; a vehicle's or a
+        vessel's within ``REACH_MARGIN`` of its position) farther apart than the tether's length,
+        stretched by at most ``MAX_START_STRAIN`` if it is elastic."""
+        t, r, s = self.tether, self.robot, self.ship
+        if not t.attached or (r.type == "vehicle" and self.winch.start_empty):
+            return
+        top = np.array([*s.position, s.fairlead_z], dtype=float)
+        if r.type == "walker":
+            end = np.array([*r.start, self.water.seabed_z(*r.start) + 1.0])
+        else:
+            end = np.array(r.position, dtype=float)
+        margin = (REACH_MARGIN if r.type != "anchor" else 0.0) + (REACH_MARGIN if s.vessel else 0.0)
+        span = float(np.linalg.norm(end - top))
+        stretch = 1.0 if (t.EA == 0.0 and not t.sections) else 1.0 + MAX_START_STRAIN
+        if t.length * stretch < span - margin:
+            bad("tether.length", f"{t.length:g} m", f"too short for its ends: the fairlead and the robot's tow point "
+                f"are {span:.1f} m apart ({'inextensible' if stretch == 1.0 else 'elastic, stretched at most 10 %'});"
+                f" give tether.length >= {(span - margin) / stretch:.1f} m or move the robot or ship closer")
 
     def estimate(self, max_length: float | None = None) -> dict:
         """What the run will cost: ``steps``, ``samples``, ``elements`` allocated (deployed

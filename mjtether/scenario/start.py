@@ -21,11 +21,10 @@ from mjtether.walker import Tripod
 from .config import ConfigError
 from .controllers import CONTROL_HZ
 from .scene import Scene, place_walker, seabed_spec
+from .sections import MAX_START_STRAIN
 
 PREROLL_S = 1.0
 """Seconds simulated before t = 0 with the ship and winch still (see ``preroll``)."""
-MAX_START_STRAIN = 0.1
-"""A steady state stretching the tether by more than this is not taken as a start."""
 STAND_S = 1.0
 """Seconds the walker stands alone on the seabed to find its resting pose before the run is
 built. Placed at its standing height (``scene.WALKER_STAND_HEIGHT``), it lands at once and has

@@ -63,17 +63,41 @@ def test_every_example_starts_from_a_steady_state_and_upright(path):
     assert tilt <= 2.0 and heading <= 2.0, (tilt, heading)
 
 
+def test_a_tether_too_short_for_its_ends_is_refused_before_anything_runs(tmp_path, capsys):
+    """An inextensible tether of 40 m between a fairlead and an anchor 78.1 m apart cannot reach:
+    `run` and `solve` refuse it before anything runs (exit 2, one line naming tether.length, the
+    distance and the length that would do), as loading it does; no traceback (`solve` used to
+    print one)."""
+    from mjtether import cli
+    from mjtether.scenario import ScenarioError
+
+    text = "[water]\ndepth = 50.0\n[tether]\nlength = 40.0\nsegments = 10\nEA = 0.0\n[robot]\ntype = \"anchor\"\n" \
+           "position = [60.0, 0.0, -50.0]\n"
+    with pytest.raises(ScenarioError) as err:
+        load_scenario(text=text)
+    assert err.value.key == "tether.length" and "78.1 m apart" in str(err.value)
+    (tmp_path / "short.toml").write_text(text)
+    for cmd in (["run", str(tmp_path / "short.toml"), "--out", str(tmp_path / "res")],
+                ["solve", str(tmp_path / "short.toml")]):
+        assert cli.main(cmd) == 2
+        msg = capsys.readouterr().err
+        assert "tether.length = 40 m: too short for its ends" in msg and "give tether.length >= 78.1 m" in msg
+        assert "Traceback" not in msg and msg.count("\n") == 1
+    assert not (tmp_path / "res").exists()
+
+
 def test_no_consistent_start_stops_before_simulating():
-    """An inextensible tether shorter than the distance between its ends has no steady state:
-    the run is refused with the reason (before any step); ``start = "settle"`` is the opt-in
-    relaxed start, which holds the robot while the cable falls into place."""
+    """A tether that reaches but is so soft (EA = 50 N) that its own weight would stretch it by
+    more than the 10 % a start may have has no steady state: the run is refused with the reason
+    (before any step); ``start = "settle"`` is the opt-in relaxed start, which holds the robot
+    while the cable falls into place."""
     text = """
 [water]
 depth = 50.0
 [tether]
-length = 40.0
+length = 75.0
 segments = 10
-EA = 0.0
+EA = 50.0
 [robot]
 type = "anchor"
 position = [60.0, 0.0, -50.0]
@@ -155,7 +179,8 @@ def test_a_stand_is_moved_and_turned_into_place():
     from mjtether.walker import Tripod
 
     for heading, place, tol in ((0.0, (40.0, 0.0), 1e-9), (120.0, (40.0, 30.0), 1e-3), (-75.0, (-300.0, 800.0), 1e-3)):
-        sc = load_scenario(overrides=[f"robot.heading_deg={heading}", f"robot.start={list(place)}"])
+        sc = load_scenario(overrides=[f"robot.heading_deg={heading}", f"robot.start={list(place)}",
+                                      "tether.length=1000", "winch.max_length=1500"])  # (reaching the far start)
         scene = build_scene(sc)
         period, dt = sc.robot.gait_period, sc.simulation.timestep
         st._STANDS.clear()

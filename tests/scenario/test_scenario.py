@@ -2,6 +2,7 @@
 
 import functools
 import json
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -252,3 +253,23 @@ def test_a_line_type_of_the_library_sets_the_tether():
     assert sc.tether.rated_load == lt.mbl
     with pytest.raises(ScenarioError, match="tether.diameter = 0.03: tether.line_type = 'steel_armoured_umbilical_17mm'"):
         load_scenario(text=small(1.0).replace("EA = 5.0e6\n", 'EA = 5.0e6\nline_type = "steel_armoured_umbilical_17mm"\n'))
+
+
+EXAMPLE_FILES = sorted((Path(__file__).resolve().parents[2] / "examples").glob("*.toml"))
+
+
+@pytest.mark.parametrize("path", EXAMPLE_FILES, ids=lambda p: p.stem)
+def test_solve_answers_every_shipped_example(path, capsys):
+    """`mjtether solve` on each shipped example exits 0 with an answer: the steady state, or what
+    there is instead (no tether; nothing deployed at the start); a vehicle is called a vehicle."""
+    assert cli.main(["solve", str(path)]) == 0
+    out = capsys.readouterr().out
+    sc = load_scenario(path)
+    if not sc.tether.attached:
+        assert out.startswith("no tether")
+    elif sc.winch.start_empty:
+        assert out.startswith("nothing deployed")
+    else:
+        assert out.startswith("steady state of")
+    if sc.robot.type == "vehicle":
+        assert "robot is a vehicle" in out or not sc.tether.attached or sc.winch.start_empty

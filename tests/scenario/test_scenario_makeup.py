@@ -73,7 +73,7 @@ def test_lazy_wave_scenario_starts_from_and_holds_its_steady_state(heading_deg, 
 
 
 @pytest.mark.parametrize("text, key, words", [
-    ('[[tether.sections]]\nline_type = "fathom_rov_tether"\nlength = 100.0\nsegments = 20\n[winch]\nmode = "follow"',
+    ('[[tether.sections]]\nline_type = "fathom_rov_tether"\nlength = 250.0\nsegments = 20\n[winch]\nmode = "follow"',
      "winch.mode", "payout of a make-up is not supported"),
     ('[[tether.sections]]\nlength = 100.0\nsegments = 20\ndiameter = 0.02\nmass_per_length = 1.0\n'
      '[[tether.sections]]\nlength = 100.0\nsegment = 20\n', "tether.sections[1].segment", "did you mean segments"),
