@@ -146,7 +146,8 @@ class SeabedContact:
         total[1:] -= T[:, None] * t
         total += m.body_mass[L.bids[k:], None] * m.opt.gravity
         _, normal = self.planes(x)
-        need = -(total - np.sum(total * normal, axis=-1)[:, None] * normal)  # what friction must hold, in the seabed's plane
+        # what friction must hold, in the seabed's plane
+        need = -(total - np.sum(total * normal, axis=-1)[:, None] * normal)
         need[[0, -1]] = 0.0  # the ends are held by their supports
         stick = data.userdata[self.stick].reshape(-1, 3)
         stick[:] = np.nan

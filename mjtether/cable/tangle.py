@@ -48,8 +48,9 @@ def vehicle_clearance(nodes: np.ndarray, hull_a, hull_b, radius: float, points=(
     """Smallest clearance (m) between the cable ``nodes`` and a vehicle: its hull, the capsule
     ``hull_a``-``hull_b`` of ``radius``, and its ``points`` (thrusters, fins, propeller), leaving
     out the cable within ``exclude`` m of arc from the end it is tied to (the last node with
-    ``from_end``, else the first; an element that reaches beyond it counts from there on). Returns (clearance, the cable's closest point); clearance is
-    negative where the cable passes through the hull, +inf with no cable left to check."""
+    ``from_end``, else the first; an element that reaches beyond it counts from there on).
+    Returns (clearance, the cable's closest point); clearance is negative where the cable passes
+    through the hull, +inf with no cable left to check."""
     s = arc_lengths(nodes)
     s = s[-1] - s if from_end else s
     keep = np.maximum(s[:-1], s[1:]) > exclude  # elements reaching beyond the exclusion

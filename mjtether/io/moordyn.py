@@ -21,9 +21,9 @@ least as deep as the lowest point).
 * a ``mjtether.network.Network`` for anything else: several lines sharing points, free points
   and free line ends, fixed or coupled or free bodies, and rods (fixed, coupled or free: each a
   rigid cylinder, a body ``rod<n>`` with points ``R<n>A`` and ``R<n>B`` at its ends, its
-  hydrodynamics lumped at its middle where MoorDyn spreads them over its segments). It settles for the file's TmaxIC (at most
-  ``MAX_SETTLE``) before its run, as MoorDyn relaxes before its own; with TmaxIC 0 it starts,
-  as MoorDyn does, from the file's positions at rest.
+  hydrodynamics lumped at its middle where MoorDyn spreads them over its segments). It settles
+  for the file's TmaxIC (at most ``MAX_SETTLE``) before its run, as MoorDyn relaxes before its
+  own; with TmaxIC 0 it starts, as MoorDyn does, from the file's positions at rest.
 
 Line types: Diam, Mass/m, EA, BA/-zeta, EI, Cd, Ca, CdAx, CaAx; CaAx = Ca is mjtether's
 isotropic added mass, CaAx = 0 its "normal" one (other values: the nearer, with a warning);
@@ -32,12 +32,13 @@ options of MoorDyn's own integrator and initial-condition solver (dtM, CFL, tSch
 TmaxIC, CdScaleIC, threshIC, ICgenDynamic, fileIC; mjtether picks its own stable step and
 starts from its steady state), FricDamp (mjtether's friction sticks exactly), the output
 options and the OUTPUTS section. Refused, naming the feature and the file's line: pinned rods,
-rods on bodies, a line with bending stiffness on a rod's end (MoorDyn clamps it), line failure, SYROPE line types, viscoelastic ('|') or nonlinear (a curve file) EA, BA in N s, VIV
-(Cl != 0), pinned bodies, waves (WaveKin), MoorDyn's dynamic current files (Currents 2, 4, 5)
-and static friction other than kinetic (StatDynFricScale). A 3-D seafloor (SeafloorFile, beside
-the file or in the working folder, where MoorDyn-C looks) becomes the seabed's height field.
-MoorDyn-C pushes its nodes straight up from it and rubs them horizontally; mjtether's contact
-and friction act along the seabed's normal and tangent plane, so on a slope they differ.
+rods on bodies, a line with bending stiffness on a rod's end (MoorDyn clamps it), line failure,
+SYROPE line types, viscoelastic ('|') or nonlinear (a curve file) EA, BA in N s, VIV (Cl != 0),
+pinned bodies, waves (WaveKin), MoorDyn's dynamic current files (Currents 2, 4, 5) and static
+friction other than kinetic (StatDynFricScale). A 3-D seafloor (SeafloorFile, beside the file
+or in the working folder, where MoorDyn-C looks) becomes the seabed's height field. MoorDyn-C
+pushes its nodes straight up from it and rubs them horizontally; mjtether's contact and
+friction act along the seabed's normal and tangent plane, so on a slope they differ.
 
 The run's duration is not in a MoorDyn file: 60 s unless ``--set simulation.duration=...``.
 """

@@ -1,5 +1,6 @@
 """Networks of mooring lines: several lines between fixed, coupled, body and free points
-(``config``), vehicles flying on their autopilots and lines paying out from winches, their steady state as MoorPy solves it (``statics``), and their run in MuJoCo
+(``config``), vehicles flying on their autopilots and lines paying out from winches, their
+steady state as MoorPy solves it (``statics``), and their run in MuJoCo
 (``run``). A MoorDyn file that is not one line from a fairlead to an anchor reads as a network
 (``mjtether.io.moordyn.read``)."""
 

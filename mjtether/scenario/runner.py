@@ -204,12 +204,14 @@ class ScenarioRun:
         if ratio[worst] < 0.99:
             dt = self.sc.simulation.timestep
             if self.makeup is None:
-                keep = f"; simulation.timestep = {stability.ea_timestep(self.tether_spec, self.water):.3g} s or less keeps it"
+                keep = (f"; simulation.timestep = {stability.ea_timestep(self.tether_spec, self.water):.3g} s or "
+                        "less keeps it")
             else:
                 keep = f"; a step {ratio[worst] ** 0.5:.3g} times this one keeps it"
             warnings.warn(f"tether.EA: at simulation.timestep = {dt:g} s the cable is as stiff as the step allows: "
-                          f"effective EA {eff[worst]:.3g} N of the {asked[worst]:.3g} N asked ({100 * ratio[worst]:.0f} "
-                          f"%: it stretches {1 / ratio[worst]:.3g} times as much){keep}", EAWarning, stacklevel=3)
+                          f"effective EA {eff[worst]:.3g} N of the {asked[worst]:.3g} N asked "
+                          f"({100 * ratio[worst]:.0f} %: it stretches {1 / ratio[worst]:.3g} times as much){keep}",
+                          EAWarning, stacklevel=3)
         return {"asked_N": float(asked[worst]), "effective_N": float(eff[worst]), "ratio": float(ratio[worst])}
 
     def _vessel_pilot(self, scene):

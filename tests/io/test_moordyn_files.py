@@ -412,9 +412,10 @@ def test_the_simply_supported_beam_sags_as_beam_theory_says(tmp_path):
     points): the nodes' sag against the closed form of a simply supported beam under its weight,
     w x (L^3 - 2 L x^2 + x^3) / (24 EI), the check MoorDyn's own tests/beam.cpp makes; within 2 % of
     the 12.7 mm mid-span sag (measured 0.25 %; the ends are pinned, so the line's stretch carries a
-    little of the load too), and the pull on the pinned ends against the tie-rod beam's. MoorDyn-C 2.7.2's start agrees (13.0 mm at mid-span after its
-    initial-condition solver) but its run then zig-zags within 5 s (nodes alternately 12-26 mm up
-    and down, 1.8 MN along the line), so it is not the reference here."""
+    little of the load too), and the pull on the pinned ends against the tie-rod beam's.
+    MoorDyn-C 2.7.2's start agrees (13.0 mm at mid-span after its initial-condition solver) but
+    its run then zig-zags within 5 s (nodes alternately 12-26 mm up and down, 1.8 MN along the
+    line), so it is not the reference here."""
     rows = _run(tmp_path, MOORING / "BeamSimplySupported.txt", 5.0)
     nodes = np.load(tmp_path / "res" / "lines.npz")["line1"]
     x, z = nodes[:, 0], nodes[:, 2] - 10.0

@@ -38,12 +38,13 @@ def test_heights_between_the_nodes_are_moordyn_c_s(tmp_path):
     moordyn = pytest.importorskip("moordyn")
     x, y, z = _bumpy()
     _write_moordyn_seafloor(tmp_path / "floor.txt", x, y, z)
-    (tmp_path / "lines.txt").write_text(
-        "--- MoorDyn input\n--- LINE TYPES ---\nName Diam Mass/m EA BA/-zeta EI Cd Ca CdAx CaAx\n(-) (m) (kg/m) (N) (-) "
-        "(-) (-) (-) (-) (-)\nc 0.1 20 1e8 -1 0 1 1 0 0\n--- POINTS ---\nID Type X Y Z M V CdA CA\n(-) (-) (m) (m) (m) "
-        "(kg) (m3) (m2) (-)\n1 Fixed 0 0 -40 0 0 0 0\n2 Fixed 5 0 -40 0 0 0 0\n--- LINES ---\nID Type A B L N Out\n"
-        "(-) (-) (-) (-) (m) (-) (-)\n1 c 1 2 6 5 -\n--- OPTIONS ---\n60 WtrDpth\nfloor.txt SeafloorFile\n"
-        "0 TmaxIC\n--- need this line ---\n")
+    (tmp_path / "lines.txt").write_text("\n".join([
+        "--- MoorDyn input", "--- LINE TYPES ---", "Name Diam Mass/m EA BA/-zeta EI Cd Ca CdAx CaAx",
+        "(-) (m) (kg/m) (N) (-) (-) (-) (-) (-) (-)", "c 0.1 20 1e8 -1 0 1 1 0 0", "--- POINTS ---",
+        "ID Type X Y Z M V CdA CA", "(-) (-) (m) (m) (m) (kg) (m3) (m2) (-)", "1 Fixed 0 0 -40 0 0 0 0",
+        "2 Fixed 5 0 -40 0 0 0 0", "--- LINES ---", "ID Type A B L N Out", "(-) (-) (-) (-) (m) (-) (-)",
+        "1 c 1 2 6 5 -", "--- OPTIONS ---", "60 WtrDpth", "floor.txt SeafloorFile", "0 TmaxIC",
+        "--- need this line ---", ""]))
     ours = bathymetry.load(tmp_path / "floor.txt")
     rng = np.random.default_rng(1)
     px, py = rng.uniform(x[0], x[-1], 200), rng.uniform(y[0], y[-1], 200)
