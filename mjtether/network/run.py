@@ -174,9 +174,8 @@ def build(net: Network) -> NetworkRun:
             hydro.append(add_body_hydro(spec, f"body/{name}", RigidBodyHydro(
                 volume=b.volume, drag_cd=(1.0, 1.0, 1.0), drag_area=b.cd_area,
                 added_mass=tuple(c * net.rho * b.volume for c in b.ca))))
-    for name, v in net.vehicles.items():
+    for name, v in net.vehicles.items():  # (turned to its heading by its ball joint, below)
         hydro.append(build_vehicle(spec, v.spec, f"body/{name}", pos=v.position))
-        spec.body(f"body/{name}").quat = _quat((0.0, 0.0, v.heading_deg))
     end_mass = {}
     for ln in net.lines:  # the lumped mass of a line's end node (half an element)
         lt = net.line_types[ln.type]
@@ -213,6 +212,8 @@ def build(net: Network) -> NetworkRun:
         bound = next(b for b in sim.bodies if getattr(b, "name", None) == f"body/{name}")
         acts = np.array([sim.model.actuator(f"body/{name}/{t.name}").id for t in vs.thrusters], dtype=int)
         heading = math.radians(v.heading_deg)
+        adr = sim.model.joint(f"body/{name}/ball").qposadr[0]  # (its slides stay along the world axes)
+        sim.data.qpos[adr:adr + 4] = _quat((0.0, 0.0, v.heading_deg))
         pilot = VehiclePilot(np.array([[0.0, 0.0, heading, v.station[2]]]), vs.autopilot, vs.thrusters, acts,
                              start=v.position, body=bound)
         pilot.station = (v.station[0], v.station[1], v.station[2], heading)
