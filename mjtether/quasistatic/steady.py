@@ -110,6 +110,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 from scipy.integrate import trapezoid
+from scipy.optimize import root
 
 from mjtether import _checks
 from mjtether.cable.makeup import LineMakeup
@@ -540,6 +541,27 @@ def _first_shot(shots):
 
 
 def _solve_top_force(cable: _Cable, pb: dict, F, J, tol: float, max_iterations: int):
+    """Newton's method on the top force with a backtracking line search (``_newton``); where it
+    stalls, Levenberg-Marquardt (scipy's ``root``, method "lm") from the same start, whose
+    damped steps reach solutions Newton's full steps overshoot: the README's 800 m line in a
+    3 kn surface current, whose start Newton could not leave, converges so to the state the
+    dynamic model settles towards. Returns (F, J, the converged march, residual)."""
+    try:
+        return _newton(cable, pb, F, J, tol, max_iterations)
+    except RuntimeError as exc:
+        start, stalled = np.asarray(F, dtype=float), exc
+
+    def residual(f):
+        rs, _ = _shoot(cable, pb, np.asarray(f, dtype=float)[None])
+        return np.where(np.isfinite(rs[0]), rs[0], 1e6 * cable.L)
+
+    sol = root(residual, start, method="lm", options={"xtol": 1e-12, "maxiter": 100 * max_iterations})
+    if not np.all(np.isfinite(sol.x)) or np.linalg.norm(residual(sol.x)) > tol * cable.L:
+        raise stalled
+    return _newton(cable, pb, sol.x, None, tol, max_iterations)  # (its Jacobian and march, at the answer)
+
+
+def _newton(cable: _Cable, pb: dict, F, J, tol: float, max_iterations: int):
     """Newton's method on the top force with a backtracking line search. With a starting
     Jacobian ``J`` (from a coarser solve) it first tries chord steps, which need one march each.
     Returns (F, J, the converged march, residual)."""
