@@ -24,7 +24,9 @@ def test_wheel_contains_the_runtime_files(tmp_path):
     names = set(zipfile.ZipFile(wheel).namelist())
     for need in ("mjtether/assets/walker/walker.xml", "mjtether/assets/walker/scene.xml",
                  "mjtether/scenarios/default.toml", "mjtether/envs/__init__.py", "mjtether/io/mjlog.py",
-                 "mjtether/cable/linetypes.toml", "mjtether/cable/bound.py", "mjtether/sweep/execute.py"):
+                 "mjtether/cable/linetypes.toml", "mjtether/cable/bound.py", "mjtether/sweep/execute.py",
+                 "mjtether/examples/default_walker.toml", "mjtether/examples/seabed_patch.csv",
+                 "mjtether/examples/networks/rov_cage_excursion.toml"):
         assert need in names, f"{need} is not in {wheel.name}"
     # the fixed top-level folders (assets/, envs/, tests/...) only ship under mjtether/
     stray = sorted(n for n in names if not n.startswith(("mjtether/", "mjtether-")))

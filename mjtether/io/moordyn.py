@@ -631,11 +631,14 @@ def _scenario_error(exc) -> ScenarioError:
 def load_any(path, overrides=()):
     """A scenario from a TOML scenario file or a MoorDyn input file (told apart by content); a
     ``mjtether.network.Network`` from a MoorDyn file that holds one or a TOML file with
-    ``[[lines]]`` (``mjtether.network.from_dict``)."""
+    ``[[lines]]`` (``mjtether.network.from_dict``). ``path`` may name a shipped example
+    (``"default_walker"``, ``"networks/rov_cage_excursion"``)."""
     import tomllib
 
+    from mjtether.io.packagedata import shipped_example
     from mjtether.network import NetworkError, from_dict
     from mjtether.scenario.loading import _read
+    path = shipped_example(path) or path  # (a shipped example by name: "default_walker")
     name = str(path)
     text = _read(name, path)
     if Path(path).suffix.lower() != ".toml" and is_moordyn(text):

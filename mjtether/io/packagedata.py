@@ -22,3 +22,29 @@ def asset_dir(name: str, probe: str) -> Path:
             return src
         raise FileNotFoundError(f"mjtether: the package data mjtether.assets/{name} is not installed; "
                                 "reinstall mjtether") from None
+
+
+def examples_dir() -> Path:
+    """The shipped example scenarios (``examples/``, installed as ``mjtether.examples``)."""
+    try:
+        return Path(str(files("mjtether.examples")))
+    except ModuleNotFoundError:
+        src = Path(__file__).resolve().parents[2] / "examples"
+        if (src / "default_walker.toml").is_file():
+            return src
+        raise FileNotFoundError("mjtether: the package data mjtether.examples is not installed; reinstall "
+                                "mjtether") from None
+
+
+def shipped_example(name) -> Path | None:
+    """The shipped example called ``name`` (``"default_walker"``, ``"networks/rov_cage_excursion"``,
+    with or without ``.toml``), or None where ``name`` is a path that exists or names none."""
+    p = Path(str(name))
+    if p.exists() or p.is_absolute():
+        return None
+    try:
+        folder = examples_dir()
+    except FileNotFoundError:
+        return None
+    candidate = folder / (p if p.suffix == ".toml" else p.with_name(p.name + ".toml"))
+    return candidate if candidate.is_file() else None

@@ -14,12 +14,16 @@ from .sections import Scenario, ScenarioError
 
 def load_scenario(path=None, *, text: str | None = None, data: dict | None = None, name: str | None = None,
                   overrides=()) -> Scenario:
-    """A checked ``Scenario`` from a TOML file ``path``, TOML ``text`` or ``data`` (the nested
+    """A checked ``Scenario`` from a TOML file ``path`` (or a shipped example's name,
+    ``"default_walker"``: ``mjtether.io.packagedata.shipped_example``), TOML ``text`` or ``data`` (the nested
     dict TOML would give); with none of them, the defaults. ``overrides``: ``"key.path=value"``
     strings (values in TOML syntax; a bare word is a string), applied before checking, as
     ``mjtether run --set`` does. ``name`` labels errors (default: the file name). A relative
     ``water.bathymetry`` in a file is taken beside the file; one given in ``overrides``, from the
     working folder."""
+    if path is not None and text is None and data is None:
+        from mjtether.io.packagedata import shipped_example
+        path = shipped_example(path) or path  # (a shipped example by name: "default_walker")
     if name is None:
         name = str(path) if path is not None else "<text>" if text is not None else "<data>"
     if data is not None:
