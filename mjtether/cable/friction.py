@@ -84,8 +84,8 @@ class SeabedContact:
         if self.grid is None:
             return point, normal
         feet = x.copy()
-        feet[:, 2] = self.grid.height(x[:, 0], x[:, 1])
-        return feet, self.grid.normal(x[:, 0], x[:, 1])
+        feet[:, 2], normal = self.grid.height_and_normal(x[:, 0], x[:, 1])
+        return feet, normal
 
     def kernel(self, x, v, stick, preload=None):
         """``seabed.seabed_friction`` for the deployed nodes; with ``preload`` (N per node), the

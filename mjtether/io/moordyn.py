@@ -414,6 +414,11 @@ def _current_profile(name: str, no: int) -> tuple:
     return tuple(zip(*table))
 
 
+def _held_kind(word: str) -> str | None:
+    """A body's or rod's attachment word as a ``Body`` kind (fixed, coupled, free), or None."""
+    return "fixed" if word in _FIXED else "coupled" if word in _COUPLED else "free" if word == "FREE" else None
+
+
 def _rods(name, sec, notes):
     """Each rod of RODS as a rigid ``Body`` (``rod<n>``, its x axis from end A to end B, at its
     middle) with points ``R<n>A`` and ``R<n>B`` at its ends: [(body, {point name: Point}, line
@@ -435,7 +440,7 @@ def _rods(name, sec, notes):
         if f[1] not in rod_types:
             raise ScenarioError(f"{name}: line {no}: rod type {f[1]!r} is not in ROD TYPES ({', '.join(rod_types)})")
         word, _ = _word(f[1 + 1])
-        kind = "fixed" if word in _FIXED else "coupled" if word in _COUPLED else "free" if word == "FREE" else None
+        kind = _held_kind(word)
         if kind is None:
             why = ("pinned rods" if "PIN" in f[2].upper() else "rods on a body" if word == "BODY"
                    else f"rod type {f[2]!r}")
@@ -474,7 +479,7 @@ def _body(name, no, f, Body):
         raise ScenarioError(f"{name}: line {no}: a body needs 14 fields (ID Attachment X0 Y0 Z0 r0 p0 y0 Mass CG* I* "
                             f"Volume CdA* Ca*), got {len(f)}")
     word, _ = _word(f[1])
-    kind = "fixed" if word in _FIXED else "coupled" if word in _COUPLED else "free" if word == "FREE" else None
+    kind = _held_kind(word)
     if kind is None:
         why = "pinned bodies" if word in _PINNED else f"body type {f[1]!r}"
         raise ScenarioError(f"{name}: line {no}: {why} are not supported by mjtether (Fixed, Coupled, Free)")

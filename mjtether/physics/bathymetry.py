@@ -86,11 +86,17 @@ class Bathymetry:
 
     def normal(self, x, y) -> np.ndarray:
         """Unit normal (..., 3) of the seabed at (x, y) m, pointing up into the water."""
+        return self.height_and_normal(x, y)[1]
+
+    def height_and_normal(self, x, y):
+        """``height`` and ``normal`` at (x, y) m, from one lookup of the cells (the friction's
+        per-step call)."""
         a, b, z00, z10, z01, z11, dx, dy = self._cell(x, y)
+        h = (1 - b) * ((1 - a) * z00 + a * z10) + b * ((1 - a) * z01 + a * z11)
         gx = ((1 - b) * (z10 - z00) + b * (z11 - z01)) / dx
         gy = ((1 - a) * (z01 - z00) + a * (z11 - z10)) / dy
         n = np.stack([-gx, -gy, np.ones_like(gx)], axis=-1)
-        return n / np.linalg.norm(n, axis=-1, keepdims=True)
+        return h, n / np.linalg.norm(n, axis=-1, keepdims=True)
 
     def plane_at(self, x: float, y: float, radius: float) -> tuple[float, float]:
         """The plane fitted (least squares) to the grid within ``radius`` m of (x, y): its slope
@@ -192,4 +198,6 @@ def load(path, spacing: float = 0.0, origin=(0.0, 0.0)) -> Bathymetry:
     p = Path(path)
     if not p.is_file():
         raise BathymetryError(f"{p}: no such file")
+    if not spacing and not is_moordyn_seafloor(p):
+        raise BathymetryError(f"{p}: a grid of depths needs water.bathymetry_spacing_m (m between nodes)")
     return _load(str(p.resolve()), p.stat().st_mtime, float(spacing), tuple(map(float, origin)))

@@ -177,14 +177,7 @@ class Water(Section):
         """The seabed's ``Bathymetry`` (``mjtether.physics.bathymetry``), or None without one."""
         if not self.bathymetry:
             return None
-        from pathlib import Path
-
         from mjtether.physics import bathymetry
-        if not Path(self.bathymetry).is_file():
-            raise bathymetry.BathymetryError(f"{self.bathymetry}: no such file")
-        if not self.bathymetry_spacing_m and not bathymetry.is_moordyn_seafloor(self.bathymetry):
-            raise bathymetry.BathymetryError(f"{self.bathymetry}: a grid of depths needs water.bathymetry_spacing_m "
-                                             "(m between nodes)")
         return bathymetry.load(self.bathymetry, self.bathymetry_spacing_m, self.bathymetry_origin_m)
 
     def seabed_z(self, x: float, y: float) -> float:
