@@ -33,8 +33,9 @@ stretched to twice its length has failed."""
 _STATE = mujoco.mjtState.mjSTATE_INTEGRATION
 SLACK_REDOS = 1
 """Times a step is redone with elements switched both ways; one more redo may then switch off
-elements still pushing while shorter than their rest length. (3 redos gave 1.6 MuJoCo steps
-per step on the built-in walker scenario and no fewer pushes in the tests.)"""
+elements still pushing (those shorter than their rest length, and any pushing by more than
+``cable.slack.SLACK_FORCE`` of an element's weight). (3 redos gave 1.6 MuJoCo steps per step on
+the built-in walker scenario and no fewer pushes in the tests.)"""
 
 
 class SimulationDiverged(RuntimeError):

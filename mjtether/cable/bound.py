@@ -54,7 +54,8 @@ class BoundTether:
         self.contact = SeabedContact(L, self.drum)
         self.forces = CableLoads(L, self.drum, self.contact)
         self.readouts = TetherReadouts(L, self.drum, self.switch)
-        L.fast = compiled_arrays(L) if compiled.backend() == "numba" else None
+        # the compiled kernels (and the native callback) know Morison's drag law only
+        L.fast = compiled_arrays(L) if compiled.backend() == "numba" and L.spec.drag_law == "morison" else None
         self.drum.relayout()
         # the parts' methods, under the names a tether has always offered
         dr, sw, ro = self.drum, self.switch, self.readouts

@@ -22,7 +22,8 @@ from .layout import CableLayout
 from .loads import orient_added_mass
 
 FAIRLEAD_SHARE = 0.05
-"""Part of the drum element, in units of l0, lumped on the fairlead node (see ``Drum.update``)."""
+"""The least part of the drum element, in units of l0, lumped on the fairlead node: its share
+while a node is released or taken back (``fairlead_share``)."""
 START_SLACK = 0.01
 """An element shorter than its rest length by more than this fraction starts slack."""
 SPLIT, MERGE = 1.2, 0.1
@@ -32,6 +33,28 @@ moves is then only (SPLIT - 1) or MERGE x l0 from the fairlead: the chord it is 
 that short, so it starts close to where the sagging cable would have it (a node placed at a
 third of a 1.5 l0 drum element rang the ship tension by +-5 %), and the band between them keeps
 a winch that dithers from releasing and taking back the same node."""
+
+
+def fairlead_share(drum_rest: float, l0: float) -> float:
+    """Length (m) of the drum element (rest length ``drum_rest``, m) whose mass and loads the
+    fairlead node carries, for elements of nominal length ``l0`` (m).
+
+    Half of it when the drum element is a whole element (drum_rest = l0: a line that has not paid
+    out, lumped half and half at its ends as at every other element, so the top converges with N
+    like the rest of the line). Across a release (drum_rest SPLIT l0 -> (SPLIT - 1) l0) and a
+    take-back (MERGE l0 -> (1 + MERGE) l0) the share must not jump, or the free cable's mass and
+    loads would: so it is a function of drum_rest / l0 modulo 1, FAIRLEAD_SHARE l0 through the
+    band where nodes move (phase MERGE .. SPLIT - 1), rising linearly to l0 / 2 at phase 1 and
+    falling linearly back over phase 0 .. MERGE; never more than half the drum element."""
+    phase = (drum_rest / l0) % 1.0
+    lo, hi = MERGE, SPLIT - 1.0
+    if phase <= lo:
+        g = 0.5 - (0.5 - FAIRLEAD_SHARE) * phase / lo
+    elif phase <= hi:
+        g = FAIRLEAD_SHARE
+    else:
+        g = FAIRLEAD_SHARE + (0.5 - FAIRLEAD_SHARE) * (phase - hi) / (1.0 - hi)
+    return min(g * l0, 0.5 * drum_rest)
 
 
 class Drum:
@@ -71,12 +94,12 @@ class Drum:
 
     @property
     def fairlead_share(self) -> float:
-        """Length (m) of the drum element whose mass and loads the fairlead node carries:
-        FAIRLEAD_SHARE l0, or half the drum element if it is shorter than twice that."""
+        """Length (m) of the drum element whose mass and loads the fairlead node carries
+        (``fairlead_share``: half of it unless the drum is releasing or taking back a node)."""
         L = self.layout
         if L.drum_eq is None or L.makeup is not None:
             return 0.5 * self.drum_rest  # a free start end or a make-up: an ordinary element
-        return min(FAIRLEAD_SHARE * L.l0, 0.5 * self.drum_rest)
+        return fairlead_share(self.drum_rest, L.l0)
 
     @property
     def rest_lengths(self) -> np.ndarray:
@@ -150,9 +173,8 @@ class Drum:
         ap = self.added_per_m
         a_left = np.r_[0.0, ap]
         a_right = np.r_[ap, 0.0]
-        # the drum element's part at the fairlead is a constant FAIRLEAD_SHARE l0 (at most half of
-        # it): everything paid out adds to the first free node, so the free cable's mass grows
-        # continuously and nothing jumps when a node is released or taken back
+        # the drum element's part at the fairlead (``fairlead_share``): half of a whole element,
+        # FAIRLEAD_SHARE l0 around a release or take-back, so that nothing jumps then
         c = self.fairlead_share
         left = np.where(idx == k + 1, 1.0 - c / max(rest[k], 1e-300), 0.5)
         right = np.where(idx == k, c / max(rest[k], 1e-300), 0.5)

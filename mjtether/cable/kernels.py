@@ -40,19 +40,20 @@ def slack_switch(act, f, ten_length, rest, K, first, f_min, slack_tension, taut,
     every deployed element had a row. Returns (changed, redo)."""
     n = act.shape[0]
     nf = f.shape[0]
+    f_over = f_min  # an overshoot is worth a redo above this, or SLACK_TENSION of the highest tension
     if nf:
         lowest = f[0]
         for r in range(1, nf):
             lowest = min(lowest, f[r])
-        f_min = max(f_min, -slack_tension * lowest)
+        f_over = max(f_min, -slack_tension * lowest)
     changed = redo = False
     if nf:
         off = np.zeros(n, dtype=np.bool_)
         push_max, pushed = -math.inf, False
         r = 0
-        for e in range(n):  # an element whose equality pushed goes slack (the last pass: only short ones)
+        for e in range(n):  # an element whose equality pushed goes slack (the last pass: short ones and real pushes)
             if act[e]:
-                if f[r] > 0.0 and (taut or ten_length[e] < rest[e]):
+                if f[r] > 0.0 and (taut or ten_length[e] < rest[e] or f[r] > f_min):
                     off[e] = True
                     pushed = True
                     push_max = max(push_max, f[r])
@@ -74,7 +75,7 @@ def slack_switch(act, f, ten_length, rest, K, first, f_min, slack_tension, taut,
                     over_max = max(over_max, over * K[e])
         if caught:
             changed = True
-            redo = redo or over_max > f_min
+            redo = redo or over_max > f_over
     return changed, redo
 
 

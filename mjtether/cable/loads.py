@@ -120,7 +120,7 @@ class CableLoads:
         f = tether_loads(x, v, segment_length=dr.deployed_rest, diameter=s.diameter,
                          cd_normal=s.cd_normal, cd_tangential=s.cd_tangential,
                          rho_fn=L.water.rho, current_fn=L.water.velocity,
-                         gravity=L.water.gravity,
+                         gravity=L.water.gravity, drag_law=s.drag_law,
                          first_share=dr.fairlead_share / max(dr.drum_rest, 1e-300))
         if s.EI > 0:
             f += bending_forces(x, s.EI, L.l0)
@@ -173,7 +173,8 @@ class CableLoads:
         f = tether_loads(x, v, segment_length=self.drum.deployed_rest, diameter=mk.element_diameter,
                          cd_normal=mk.element_cd_normal, cd_tangential=mk.element_cd_tangential,
                          rho_fn=L.water.rho, current_fn=L.water.velocity, gravity=L.water.gravity,
-                         area=mk.element_area, float_cd_area=float_cda if np.any(float_cda > 0) else None)
+                         area=mk.element_area, float_cd_area=float_cda if np.any(float_cda > 0) else None,
+                         drag_law=L.spec.drag_law)
         if mk.has_point_loads:
             self._point_loads(x, v, f)
         EI = mk.element_EI

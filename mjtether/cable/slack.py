@@ -2,10 +2,13 @@
 
 MuJoCo's equalities are two-sided: they push as well as pull. After each step an element whose
 equality pushed goes slack (its equality off), and a slack element stretched past its rest
-length is taut again; a push or overshoot worth more than ``SLACK_FORCE`` of an element's weight
-in water and ``SLACK_TENSION`` of the highest tension has its step redone with the new set
-(``Simulation.step``). (MuJoCo's one-sided limit constraints chatter at the stiffness a long time
-step allows, so tension only is made this way, from two-sided equalities.) Units SI.
+length is taut again. A push worth more than ``SLACK_FORCE`` of an element's weight in water,
+or an overshoot worth more than that and ``SLACK_TENSION`` of the highest tension, has its step
+redone with the new set (``Simulation.step``), so that no push above SLACK_FORCE survives a step:
+that of an element shorter than its rest length, or of one still longer and shortening fast (its
+damping pushing; a cable's damping cannot push either). (MuJoCo's one-sided limit constraints
+chatter at the stiffness a long time step allows, so tension only is made this way, from
+two-sided equalities.) Units SI.
 """
 
 from __future__ import annotations
@@ -17,14 +20,14 @@ from .drum import Drum
 from .layout import CableLayout
 
 SLACK_FORCE = 0.1
-"""A push or overshoot worth more than this part of an element's weight in water, and more than
-SLACK_TENSION of the highest element tension at that step, has its step redone with the element
-switched (see ``SlackSwitch.update``)."""
+"""A push worth more than this part of an element's weight in water has its step redone with the
+element switched off; an overshoot (a slack element stretched past its rest length) only if it is
+also worth SLACK_TENSION of the highest element tension at that step (see
+``SlackSwitch.update``)."""
 SLACK_TENSION = 0.1
-"""See SLACK_FORCE: a push or overshoot below either is
-switched a step late, which costs less than redoing the step (measured on the built-in walker
-scenario, where the gait jerks the cable near the tow point taut and slack: 1.055 MuJoCo steps
-per step, against 1.25 with the weight threshold alone)."""
+"""See SLACK_FORCE: an overshoot below either is switched on a step late, which costs less than
+redoing the step (measured on the built-in walker scenario, where the gait jerks the cable near
+the tow point taut and slack: 1.007 MuJoCo steps per step)."""
 
 
 class SlackSwitch:
@@ -46,12 +49,12 @@ class SlackSwitch:
     def update(self, taut: bool = True) -> bool:
         """Switch elements between taut and slack after a step: an element whose equality pushed
         (compression) goes slack; a slack one longer than its rest length is taut again (with
-        ``taut`` False, only elements shorter than their rest length go slack, and none is
-        switched on: the last pass of a step redone). Returns whether a push or an overshoot was
-        worth more than ``SLACK_FORCE`` of an element's weight in water and ``SLACK_TENSION`` of
-        the highest tension (``Simulation`` then redoes the step with the new set, so that no
-        element pushes and none overshoots its rest length for a step; smaller ones, a laid
-        cable's noise, just switch)."""
+        ``taut`` False, the last pass of a step redone, none is switched on, and only elements
+        shorter than their rest length or pushing by more than ``SLACK_FORCE`` of an element's
+        weight in water go slack). Returns whether a push was worth more than SLACK_FORCE, or an
+        overshoot more than that and ``SLACK_TENSION`` of the highest tension (``Simulation``
+        then redoes the step with the new set, so that no element pushes and none overshoots its
+        rest length for a step; smaller ones, a laid cable's noise, just switch)."""
         L, dr = self.layout, self.drum
         d, k = L.data, dr.first
         if L.fast is not None:  # the same switching, compiled (kernels.slack_switch)
@@ -63,14 +66,15 @@ class SlackSwitch:
         rows = self.element_rows(d)
         f = d.efc_force[rows]
         changed = redo = False
-        # a push or overshoot is worth a redo above a tenth of an element's weight, or above
-        # SLACK_TENSION of the highest tension in the cable now
-        f_min = max(self.f_min, -SLACK_TENSION * f.min()) if len(f) else self.f_min
+        # a push is worth a redo above a tenth of an element's weight; an overshoot above that
+        # or SLACK_TENSION of the highest tension in the cable now
+        f_min = self.f_min
+        f_over = max(f_min, -SLACK_TENSION * f.min()) if len(f) else f_min
         if len(f) and f.max() > 0.0:  # efc_force > 0 pushes the nodes apart
             pushing = f > 0.0
             push = np.flatnonzero(act)[pushing]
-            if not taut:  # the last time round: only elements shorter than their rest length
-                keep = d.ten_length[L.tadr + push] < dr.rest[push]
+            if not taut:  # the last time round: elements shorter than their rest length, and pushes worth a redo
+                keep = (d.ten_length[L.tadr + push] < dr.rest[push]) | (f[pushing] > f_min)
                 push, pushing = push[keep], f[pushing][keep]
             else:
                 pushing = f[pushing]
@@ -85,7 +89,7 @@ class SlackSwitch:
             if caught.any():
                 act[slack[caught]] = 1
                 changed = True
-                redo = redo or float((over[caught] * dr.K[slack[caught]]).max()) > f_min
+                redo = redo or float((over[caught] * dr.K[slack[caught]]).max()) > f_over
         if changed:
             d.eq_active[L.eqs] = act
         return redo

@@ -99,7 +99,7 @@ import math
 
 import numpy as np
 
-from mjtether.cable.drum import FAIRLEAD_SHARE, MERGE, SPLIT
+from mjtether.cable.drum import MERGE, SPLIT, fairlead_share
 from mjtether.physics.water import WaterColumn
 
 from .tether import TetherSpec
@@ -184,7 +184,7 @@ def drum_omega(tether: TetherSpec, water: WaterColumn, tension: float, shortest:
     l0, m, T, EI = tether.segment_length, effective_mass(tether, water), tension, tether.EI
     n = 16  # free nodes; the mode is local to the drum element
     lengths = np.r_[shortest * l0, np.full(n, l0)]  # element j joins node j and j+1; 0 and n+1 fixed
-    share = min(FAIRLEAD_SHARE * l0, 0.5 * lengths[0])
+    share = fairlead_share(lengths[0], l0)
     mass = np.full(n, m * l0)
     mass[0] = m * (lengths[0] - share + 0.5 * l0)
     K = np.zeros((n + 2, n + 2))

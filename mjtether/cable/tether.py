@@ -12,6 +12,7 @@ import math
 from dataclasses import dataclass
 
 from mjtether import _checks
+from mjtether.physics.hydro import DRAG_LAWS
 
 MAX_LENGTH = 1e5
 """Longest tether (m): 100 km."""
@@ -46,6 +47,12 @@ class TetherSpec:
             axes, along the cable too, where a slender cylinder has none; ``"normal"``: normal to
             the cable only (see ``mjtether.cable.builder``), which reproduces the flexible jumper of Lowe
             and Langley (2006) but is not yet made safe with slack elements and touchdown.
+        drag_law: ``"morison"`` (default): C_dn on the flow's normal part, C_dt on its tangential
+            part (``physics.hydro.morison_drag``); ``"loading_functions"``: Hong et al.'s (2020,
+            J. Mar. Sci. Eng. 8, 485) Eq. 20-21, ``cd_normal`` as the one C_d on d*l scaled by
+            loading functions of the flow's angle to the cable, tangential part included
+            (``physics.hydro.loading_function_drag``; ``cd_tangential`` unused). Runs on the
+            NumPy kernels (the compiled ones and the native callback know Morison's only).
     """
 
     length: float
@@ -60,6 +67,7 @@ class TetherSpec:
     EI: float = 0.0
     axial_damping_ratio: float = 1.0
     added_mass: str = "isotropic"
+    drag_law: str = "morison"
 
     def __post_init__(self):
         _checks.in_range("tether.length", self.length, 1e-3, MAX_LENGTH, "m")
@@ -82,6 +90,8 @@ class TetherSpec:
         _checks.in_range("tether.axial_damping_ratio", self.axial_damping_ratio, 0.0, 10.0)
         if self.added_mass not in ADDED_MASS:
             raise ValueError(f"tether.added_mass must be one of {', '.join(ADDED_MASS)}, got {self.added_mass!r}")
+        if self.drag_law not in DRAG_LAWS:
+            raise ValueError(f"tether.drag_law must be one of {', '.join(DRAG_LAWS)}, got {self.drag_law!r}")
 
     @property
     def area(self) -> float:

@@ -20,6 +20,8 @@ def write(sc: Scenario) -> str:
         refuse("robot.type", f"{r.type!r} (only an anchored end is)")
     if t.EA == 0.0 and not t.sections:
         refuse("tether.EA", "0 (inextensible; MoorDyn needs a stiffness)")
+    if t.drag_law != "morison":
+        refuse("tether.drag_law", f"{t.drag_law!r} (MoorDyn's drag is Morison's)")
     if w.density.type != "constant":
         refuse("water.density.type", repr(w.density.type))
     c = w.current

@@ -10,6 +10,9 @@ one drag kernel of the dynamic tether and the quasi-static solver):
 * buoyancy         F_b = rho(z) g A l_wet, upwards, acting at the centre of the wetted part,
 
 where l_wet is the submerged part of the element (the cable may cross the surface z = 0).
+``loading_function_drag`` is the other drag law a tether may take (``TetherSpec.drag_law``):
+Hong et al.'s (2020, J. Mar. Sci. Eng. 8, 485) Eq. 20-21, one C_d scaled by loading functions of
+the angle between the cable and the flow.
 Element loads go to its two nodes (lever rule for the buoyancy of a partly wet element).
 The added mass C_a rho A l is carried by the MuJoCo mass matrix (see ``builder``), not here.
 
@@ -72,6 +75,47 @@ def morison_drag(t: np.ndarray, u: np.ndarray, rho, l_wet, diameter, cd_normal, 
     return f
 
 
+DRAG_LAWS = ("morison", "loading_functions")
+"""A tether's drag laws: ``morison`` (normal C_dn on d l, tangential C_dt on pi d l, each on its
+own velocity component: the cross-flow principle) and ``loading_functions`` (Hong et al. 2020,
+Eq. 20-21: one C_d on d l, scaled by loading functions of the flow's angle to the cable)."""
+
+
+def loading_functions(eta):
+    """Hong et al. (2020, J. Mar. Sci. Eng. 8, 485), Eq. 21: the normal and tangential loading
+    functions f_p, f_p3 of the angle eta (rad, 0..pi/2) between the cable and the relative flow.
+    f_p runs from 0 (flow along the cable) to 1 (flow across it). The tangential fit f_p3 (0.0201
+    along the cable) crosses zero at 89.9 deg and ends at -6.9e-5 at 90 deg; it is held at zero
+    there (a tangential force along the flow would be no drag)."""
+    e = np.asarray(eta, float)
+    fp = 0.5 - 0.1 * np.cos(e) + 0.1 * np.sin(e) - 0.4 * np.cos(2 * e) - 0.11 * np.sin(2 * e)
+    ft = 0.01 * (2.008 + e * (-0.3858 + e * (1.9159 + e * (-4.1615 + e * (3.5064 - 1.1873 * e)))))
+    return fp, np.maximum(ft, 0.0)
+
+
+def loading_function_drag(t: np.ndarray, u: np.ndarray, rho, l_wet, diameter, cd) -> np.ndarray:
+    """Drag (N, world) on straight cable elements by Hong et al.'s (2020) Eq. 20, shape (K, 3):
+    normal 1/2 rho C_d d l_wet f_p(eta) |u|^2 along the flow's normal part, tangential
+    1/2 rho C_d d l_wet f_p3(eta) |u|^2 along the flow's tangential part (``loading_functions``),
+    eta the angle between the cable and the relative flow u. Both act on |u|^2, the whole flow's
+    dynamic pressure (where ``morison_drag`` takes each component's own).
+
+    Args:
+        t: unit tangents (K, 3); u: flow relative to the element (current less its velocity), m/s
+            (K, 3); rho (kg/m^3), l_wet (m), diameter (m), cd (on d l): scalars or one per element.
+    """
+    ut = (u * t).sum(axis=1)
+    un = u - ut[:, None] * t
+    un_mag = np.sqrt((un * un).sum(axis=1))
+    u2 = un_mag * un_mag + ut * ut
+    eta = np.arctan2(un_mag, np.abs(ut))
+    fp, ft = loading_functions(eta)
+    q = 0.5 * rho * cd * diameter * l_wet * u2
+    with np.errstate(invalid="ignore", divide="ignore"):
+        n_dir = np.where(un_mag[:, None] > 1e-12, un / np.where(un_mag > 1e-12, un_mag, 1.0)[:, None], 0.0)
+    return (q * fp)[:, None] * n_dir + (q * ft * np.sign(ut))[:, None] * t
+
+
 def tether_loads(
     x: np.ndarray,
     v: np.ndarray,
@@ -86,6 +130,7 @@ def tether_loads(
     first_share: float = 0.5,
     area=None,
     float_cd_area=None,
+    drag_law: str = "morison",
 ) -> np.ndarray:
     """Hydrodynamic loads on the nodes of a tether (N, world frame), shape ``(N+1, 3)``.
 
@@ -100,6 +145,8 @@ def tether_loads(
         diameter, cd_normal, cd_tangential: scalars, or one per element (a line make-up).
         area: displaced volume per metre of each element (m^2) if not pi d^2 / 4 (floats on it).
         float_cd_area: extra normal drag area per metre of each element (m^2/m: floats), or None.
+        drag_law: ``"morison"`` or ``"loading_functions"`` (``DRAG_LAWS``; the latter takes
+            ``cd_normal`` as its one C_d and ignores ``cd_tangential`` and floats).
     """
     _, _, t = element_geometry(x)
     zc = np.minimum(0.5 * (x[1:, 2] + x[:-1, 2]), 0.0)
@@ -108,8 +155,11 @@ def tether_loads(
     vrel = current_fn(zc)
     vrel -= 0.5 * (v[1:] + v[:-1])
     # each of the element's two nodes takes half of its drag
-    half = 0.5 * morison_drag(t, vrel, rho, segment_length * frac, diameter, cd_normal, np.pi * np.asarray(cd_tangential),
-                              float_cd_area)
+    if drag_law == "loading_functions":
+        half = 0.5 * loading_function_drag(t, vrel, rho, segment_length * frac, diameter, cd_normal)
+    else:
+        half = 0.5 * morison_drag(t, vrel, rho, segment_length * frac, diameter, cd_normal,
+                                  np.pi * np.asarray(cd_tangential), float_cd_area)
     if area is None:
         fb = (gravity * np.pi * diameter**2 / 4.0 * segment_length) * rho * frac
     else:

@@ -20,7 +20,7 @@ import numpy as np
 from mjtether.cable.makeup import LineMakeup
 from mjtether.cable.tether import TetherSpec
 from mjtether.physics import compiled
-from mjtether.physics.hydro import morison_drag, wet_fraction
+from mjtether.physics.hydro import loading_function_drag, morison_drag, wet_fraction
 from mjtether.physics.water import WaterColumn
 
 from . import kernels
@@ -39,6 +39,7 @@ class _Cable:
         self.float_cda = None  # normal drag area of distributed floats per metre, per element
         self.node_loads = None  # (mass, volume, cd_area) per node, where any
         self.k_min = 0  # first element that may hold the touchdown
+        self.drag_law = getattr(tether, "drag_law", "morison")  # (a make-up: Morison's)
         if isinstance(tether, TetherSpec):
             self.makeup = None
             self.N = N = tether.segments
@@ -94,6 +95,8 @@ class _Cable:
     def _compiled(self):
         """The arguments of ``kernels.steady_march`` after the shots (the same march, compiled),
         or None where it does not apply (the NumPy kernels, a water profile it does not know)."""
+        if self.drag_law != "morison":  # (the compiled march knows Morison's drag law only)
+            return None
         codes = compiled.profile_codes(self.water) if compiled.backend() == "numba" else None
         if codes is None:
             return None
@@ -128,7 +131,10 @@ class _Cable:
         rho = self.water.rho(zc)
         u = self.water.velocity(zc) - self.v_tow
         floats = self.float_cda[k] if self.float_cda is not None and self.float_cda[k] > 0.0 else None
-        f = morison_drag(t, u, rho, l_wet, d, self.cdn_e[k], self.cdt_pi_e[k], floats)
+        if self.drag_law == "loading_functions":
+            f = loading_function_drag(t, u, rho, l_wet, d, self.cdn_e[k])
+        else:
+            f = morison_drag(t, u, rho, l_wet, d, self.cdn_e[k], self.cdt_pi_e[k], floats)
         f[:, 2] += (rho * A * l_wet - mu * l) * self.g
         return f
 

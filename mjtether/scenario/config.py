@@ -58,7 +58,7 @@ class Param:
     def allowed(self) -> str:
         """The allowed values, as the docs and error messages say them."""
         if self.choices:
-            return ", ".join(self.choices)
+            return ", ".join(c if c else '""' for c in self.choices)  # ("": none, as a TOML string)
         if self.kind in ("str", "bool"):
             return "true or false" if self.kind == "bool" else "text"
         rng = f"[{self.lo:g}, {self.hi:g}]" + (f" {self.unit}" if self.unit else "")

@@ -73,7 +73,7 @@ def tether_from(sc: Scenario) -> TetherSpec:
                       density=None if t.mass_per_length > 0 else t.density,
                       mass_per_length=t.mass_per_length or None, cd_normal=t.cd_normal,
                       cd_tangential=t.cd_tangential, ca_normal=t.ca_normal, EA=t.EA or None, EI=t.EI,
-                      added_mass=t.added_mass)
+                      added_mass=t.added_mass, drag_law=t.drag_law)
 
 
 def makeup_from(sc: Scenario) -> LineMakeup | None:

@@ -21,6 +21,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from mjtether.cable.makeup import load_line_types
+from mjtether.physics.hydro import DRAG_LAWS
 from mjtether.cable.tether import MAX_LENGTH, MAX_SEGMENTS, TetherSpec
 from mjtether.cable.winch import MODES as WINCH_MODES
 from mjtether.cable.winch import Winch as _Winch
@@ -293,6 +294,12 @@ class Tether(Section):
                             "too); normal: normal to the cable only, as for a slender cylinder (reproduces the "
                             "flexible jumper of Lowe and Langley 2006; not yet made safe with slack elements and "
                             "touchdown)", choices=("isotropic", "normal"))
+    drag_law: str = param("morison", doc="morison: cd_normal on the flow's normal part and cd_tangential on its "
+                          "tangential part (the cross-flow principle); loading_functions: Hong et al. (2020, J. Mar. "
+                          "Sci. Eng. 8, 485), Eq. 20-21, cd_normal as the one drag coefficient, scaled by loading "
+                          "functions of the flow's angle to the cable, tangential drag included (cd_tangential "
+                          "unused; a uniform tether only; runs on the NumPy kernels, slower)",
+                          choices=DRAG_LAWS)
     rated_load: float = param(INF, 0.0, INF, "N", "breaking/rated load; a run stops above it (a line_type's MBL "
                               "when not given)")
     line_type: str = param("", doc="a line type of the library (mjtether/cable/linetypes.toml: "
@@ -622,6 +629,9 @@ class Scenario(Section):
         if self.tether.is_makeup and wi.mode != "fixed":
             bad("winch.mode", repr(wi.mode), "a tether with sections, point_loads or floats (a line make-up) needs "
                 "winch.mode = \"fixed\": payout of a make-up is not supported yet")
+        if self.tether.is_makeup and self.tether.drag_law != "morison":
+            bad("tether.drag_law", repr(self.tether.drag_law), "is for a uniform tether: a line make-up (sections, "
+                "point_loads or floats) takes drag_law = \"morison\"")
         hi = wi.max_length if wi.max_length > 0 else (L if wi.mode == "fixed" else 2 * L)
         if not wi.min_length <= L <= hi:
             bad("tether.length", L, f"must be in [winch.min_length, winch.max_length] = [{wi.min_length:g}, {hi:g}] m")
