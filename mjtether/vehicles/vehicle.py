@@ -19,12 +19,13 @@ buoyancy rho(z) g V at the centre of buoyancy, a torpedo's hull lift, axial and 
 (``Hull``; ``fossen.lift_drag``, ``fossen.crossflow_drag`` or ``fossen.crossflow_drag_fossen``),
 its fins' lift and drag (``fins``) and its propeller's thrust (``propeller``), and the term
 M_A (omega x nu_r) that turns the tendons' world-frame inertia into Fossen's body-frame
-M_A nu_r' (for a current uniform and steady in the world: nu_c' = -omega x nu_c in the body). The current is the water column's at the
-body origin's depth; its change with depth along the vehicle's path (w du/dz) is neglected in
-nu_c'. At the surface a submerged vehicle keeps the fraction of its hull under the water
-(``compiled.wet_fraction``: its centre of buoyancy's height over its drawn ellipsoid's vertical
-extent) of its buoyancy, added-mass and damping forces and hull loads, and a fin, its propeller
-or a thruster in the air gives nothing: a positively buoyant vehicle floats, it does not fly.
+M_A nu_r' (for a current uniform and steady in the world: nu_c' = -omega x nu_c in the body).
+The current is the water column's at the body origin's depth; its change with depth along
+the vehicle's path (w du/dz) is neglected in nu_c'. At the surface a submerged vehicle keeps
+the fraction of its hull under the water (``compiled.wet_fraction``: its centre of buoyancy's
+height over its drawn ellipsoid's vertical extent) of its buoyancy, added-mass and damping
+forces and hull loads, and a fin, its propeller or a thruster in the air gives nothing: a
+positively buoyant vehicle floats, it does not fly.
 (The added mass in MuJoCo's mass matrix stays whole.)
 
 Units SI; world z up; body x forward, y left, z up.

@@ -215,8 +215,9 @@ def test_vehicle_wrench_matches_the_numpy_kernel(monkeypatch, name, density, cur
     ``remus100_stall``, shaft speeds ahead and astern) in each water column: the compiled
     ``vehicle_wrench`` against ``BoundVehicle.wrench``'s NumPy path (hull lift and drag,
     cross-flow by Fossen's sum and by the midpoint rule, fins, propeller, C_A with its zeroed
-    entries, faded damping, buoyancy, a surface vessel's hydrostatics about its centre of flotation and its cross-flow drag; a submerged
-    vehicle at the surface, its hull partly wet, fins and thrusters in the air)."""
+    entries, faded damping, buoyancy, a surface vessel's hydrostatics about its centre of
+    flotation and its cross-flow drag; a submerged vehicle at the surface, its hull partly wet,
+    fins and thrusters in the air)."""
     from mjtether.vehicles.files import build_vehicle
 
     water = wm.WaterColumn(depth=100.0, density=density, current=current)

@@ -114,7 +114,7 @@ def loads(nu, rudder, stern, n_rpm, inflow="speed"):
     """Fossen's REMUS loads but inertia, Coriolis and restoring (N, N m; his body frame, still
     water): linear damping, hull lift and axial drag, cross-flow drag, fins, propeller. The
     propeller's inflow: "speed", the vehicle's speed U (his); "surge", u (mjtether's)."""
-    u, v, w, p, q, r = nu
+    u, v, w, r = nu[0], nu[1], nu[2], nu[5]
     U = math.sqrt(u * u + v * v + w * w)
     D = D_LINEAR.copy()
     D[:2] *= math.exp(-3 * U)  # surge and sway damping fade as the quadratic loads take over
@@ -145,7 +145,8 @@ def loads(nu, rudder, stern, n_rpm, inflow="speed"):
 
 def rotation(phi, theta, psi):
     """R_zyx(phi, theta, psi): body to north-east-down."""
-    cf, sf, ct, st, cp, sp = math.cos(phi), math.sin(phi), math.cos(theta), math.sin(theta), math.cos(psi), math.sin(psi)
+    cf, sf, ct, st = math.cos(phi), math.sin(phi), math.cos(theta), math.sin(theta)
+    cp, sp = math.cos(psi), math.sin(psi)
     return np.array([[cp * ct, -sp * cf + cp * st * sf, sp * sf + cp * cf * st],
                      [sp * ct, cp * cf + sf * st * sp, -cp * sf + sp * st * cf],
                      [-st, ct * sf, ct * cf]])
@@ -353,7 +354,10 @@ def test_fossens_crossflow_sum_by_hand():
     assert hull.crossflow == "fossen" and hull.strips == 20
     k = 0.5 * RHO * DIAM * CD_2D
     assert hull.crossflow_cd == pytest.approx(CD_2D, rel=1e-4)  # Hoerner's curve, to the file's 5 digits
-    cf = lambda nu: crossflow_drag_fossen(np.asarray(nu, float), RHO, L, DIAM, CD_2D, 20)  # noqa: E731
+
+    def cf(nu):
+        return crossflow_drag_fossen(np.asarray(nu, float), RHO, L, DIAM, CD_2D, 20)
+
     np.testing.assert_allclose(cf([2.0, 0.3, 0, 0, 0, 0]), [0, -k * 0.09 * 21 * 0.08, 0, 0, 0, 0], atol=1e-12)
     np.testing.assert_allclose(cf([2.0, 0, 0, 0, 0, -0.2]), [0, 0, 0, 0, 0, k * 0.04 * 0.08 * 3.0976],
                                atol=1e-12)
