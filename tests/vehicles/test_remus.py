@@ -371,6 +371,8 @@ def test_fossens_crossflow_sum_by_hand():
 
 @pytest.mark.parametrize("value", ['"Fossen"', '"trapezoid"', "1"])
 def test_a_bad_crossflow_sum_is_named(tmp_path, value):
+    """A vehicle file whose ``hull.crossflow`` is not one of the two sums is refused, the
+    message naming the file, the key and the allowed values (case matters)."""
     bad = tmp_path / "bad.toml"
     text = (Path(load_vehicle("remus100").path)).read_text()
     bad.write_text(text.replace('crossflow = "fossen"', f"crossflow = {value}"))
