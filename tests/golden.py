@@ -91,6 +91,11 @@ and say which here:
 * issue 30: the REMUS 100's volume is its mass over its trim water's density exactly (it was
   rounded to 7 figures): the REMUS and fibre-paying AUV runs moved by at most 8e-7 of a column's
   largest value; every other run unchanged bit for bit.
+* issue 30: the REMUS 100 sums its cross-flow drag as Fossen's code does (``hull.crossflow =
+  "fossen"``: 21 points of L/20, sway and yaw only): ``remus_fibre_payout`` changed (by 1.7e-2
+  of a column's largest value), ``remus_turning_circle`` (9.5e-4), ``auv_fibre_spiral`` (2.8e-5)
+  and ``auv_fibre_circle*`` (in columns that are zero to rounding); only those records were
+  rewritten, every other run unchanged bit for bit.
 
     python tests/golden.py   # rewrites tests/data/golden_runs.npz
 """

@@ -336,14 +336,16 @@ def rigid_body_loads(R, p_cob, v_cob, omega, volume, height, drag_cd, drag_area,
 
 def vehicle_arrays(hydro, fins, propeller, r_g):
     """The parameters of ``vehicle_wrench`` from a ``VehicleHydro``, its fins, propeller and
-    centre of gravity ``r_g`` (body frame): (zeroed-C_A mask (6, 6), hull (8,), fins (k, 10),
-    propeller (13,), surface (14,))."""
+    centre of gravity ``r_g`` (body frame): (zeroed-C_A mask (6, 6), hull (9,: present, L, D,
+    axial Cd, cross-flow Cd, reference area, Oswald factor, strips, cross-flow sum: 0 the
+    midpoint rule, 1 Fossen's), fins (k, 10), propeller (13,), surface (14,))."""
     keep = np.ones((6, 6))
     for i, j in hydro.coriolis_zeroed:
         keep[i, j] = 0.0
     h = hydro.hull
-    hull = np.zeros(8) if h is None else np.array(
-        [1.0, h.length, h.diameter, h.axial_cd, h.crossflow_cd, h.reference_area, h.oswald, h.strips], dtype=float)
+    hull = np.zeros(9) if h is None else np.array(
+        [1.0, h.length, h.diameter, h.axial_cd, h.crossflow_cd, h.reference_area, h.oswald, h.strips,
+         1.0 if h.crossflow == "fossen" else 0.0], dtype=float)
     fin = np.array([[*f.position, *f.lift_direction, f.area, f.cl_delta,
                      -1.0 if f.stall_angle is None else f.stall_angle, f.post_stall_lift] for f in fins],
                    dtype=float).reshape(-1, 10)
@@ -447,7 +449,7 @@ def vehicle_wrench(nu, R, z, dkind, dp, ckind, cp, gravity, MA, keep, DL, fade, 
         tau[3] += r_b[1] * fb2 - r_b[2] * fb1
         tau[4] += r_b[2] * fb0 - r_b[0] * fb2
         tau[5] += r_b[0] * fb1 - r_b[1] * fb0
-    if hull[0] > 0.0:  # fossen.lift_drag and fossen.crossflow_drag
+    if hull[0] > 0.0:  # fossen.lift_drag and fossen.crossflow_drag (or crossflow_drag_fossen)
         L, D, cd2d, area, oswald, strips = hull[1], hull[2], hull[4], hull[5], hull[6], int(hull[7])
         cd0 = hull[3] * math.pi * D * D / 4.0 / area
         hx = math.hypot(nr[0], nr[2])
@@ -462,15 +464,23 @@ def vehicle_wrench(nu, R, z, dkind, dp, ckind, cp, gravity, MA, keep, DL, fade, 
             tau[0] += -drag * nr[0] / hx + lift * sgn * math.sin(alpha)
             tau[2] += -drag * nr[2] / hx - lift * math.cos(alpha)
         dx = L / strips
-        for k in range(strips):
-            x = (k + 0.5) * dx - 0.5 * L
-            vy = nr[1] + x * nr[5]
-            vz = nr[2] - x * nr[4]
-            kk = -0.5 * rho * D * cd2d * dx * math.hypot(vy, vz) * wet
-            tau[1] += kk * vy
-            tau[2] += kk * vz
-            tau[4] -= x * kk * vz
-            tau[5] += x * kk * vy
+        if hull[8] > 0.0:  # Fossen's sum: strips + 1 points from tail to nose, sway and yaw
+            for k in range(strips + 1):
+                x = k * dx - 0.5 * L
+                vy = nr[1] + x * nr[5]
+                kk = -0.5 * rho * D * cd2d * dx * abs(vy) * wet
+                tau[1] += kk * vy
+                tau[5] += x * kk * vy
+        else:  # the midpoint rule of the strip integral, along each strip's cross-flow
+            for k in range(strips):
+                x = (k + 0.5) * dx - 0.5 * L
+                vy = nr[1] + x * nr[5]
+                vz = nr[2] - x * nr[4]
+                kk = -0.5 * rho * D * cd2d * dx * math.hypot(vy, vz) * wet
+                tau[1] += kk * vy
+                tau[2] += kk * vz
+                tau[4] -= x * kk * vz
+                tau[5] += x * kk * vy
     for k in range(fins.shape[0]):  # fins.fin_wrench
         px, py, pz = fins[k, 0], fins[k, 1], fins[k, 2]
         lx, ly, lz = fins[k, 3], fins[k, 4], fins[k, 5]

@@ -11,7 +11,9 @@ The file's tables (units SI; body frame x forward, y left, z up; see ``vehicle``
                    trimmed for, or identified in), sources (a table: parameter -> where it comes from)
     [hydro]        volume (m^3, or "neutral": mass / water_density, exactly), centre_of_buoyancy,
                    added_mass, linear_damping, quadratic_damping, linear_damping_fade, coriolis_zeroed
-    [hull]         length, diameter, axial_cd, crossflow_cd, reference_area, oswald, strips
+    [hull]         length, diameter, axial_cd, crossflow_cd, reference_area, oswald, strips,
+                   crossflow ("midpoint", the default: the midpoint rule of the strip integral,
+                   sway and heave; "fossen": Fossen's sum of strips + 1 points, sway and yaw)
                    (a torpedo's hull lift and drag, ``vehicle.Hull``)
     [surface]      waterplane_area, gm_t, gm_l, max_volume, centre_of_flotation, length, draft,
                    crossflow_cd, strips (a surface vessel's hydrostatics and cross-flow drag,
@@ -47,7 +49,7 @@ KEYS = {
     "vehicle": {"name", "mass", "inertia", "centre_of_gravity", "size", "tow_point", "water_density", "sources"},
     "hydro": {"volume", "centre_of_buoyancy", "added_mass", "linear_damping", "quadratic_damping",
               "linear_damping_fade", "coriolis_zeroed"},
-    "hull": {"length", "diameter", "axial_cd", "crossflow_cd", "reference_area", "oswald", "strips"},
+    "hull": {"length", "diameter", "axial_cd", "crossflow_cd", "reference_area", "oswald", "strips", "crossflow"},
     "surface": {"waterplane_area", "gm_t", "gm_l", "max_volume", "centre_of_flotation", "length", "draft",
                 "crossflow_cd", "strips"},
     "thrusters": {"name", "position", "direction", "max_forward", "max_reverse", "time_constant"},

@@ -75,6 +75,23 @@ def crossflow_drag(nu_r: np.ndarray, rho: float, length: float, diameter: float,
     return np.array([0.0, Y.sum(), Z.sum(), 0.0, -(x * Z).sum(), (x * Y).sum()])
 
 
+def crossflow_drag_fossen(nu_r: np.ndarray, rho: float, length: float, diameter: float, cd: float,
+                          strips: int = 20) -> np.ndarray:
+    """Cross-flow drag summed as Fossen sums it for his REMUS 100 (Fossen 2021, Sec. 6.7.2, and
+    the ``crossFlowDrag`` of his Python Vehicle Simulator): ``strips`` + 1 points from tail to
+    nose, x_i = -L/2 + i L / ``strips`` (m, body frame, about the origin), each weighted
+    dx = L / ``strips`` (the end points in full: the sum counts a hull (strips + 1) / strips as
+    long as it is), each of diameter D (m) with the 2-D drag coefficient ``cd``, in sway and yaw
+    only: the flow across the hull at x is v_r + x r (m/s; heave and pitch are left out), and
+    its drag -1/2 rho D cd |v_r + x r| (v_r + x r) dx (N). Returns the body-frame wrench (N, N m)
+    about the origin: sway and yaw. Fossen's code takes strips = 20: 21 points."""
+    dx = length / strips
+    x = np.arange(strips + 1) * dx - 0.5 * length
+    vy = nu_r[1] + x * nu_r[5]
+    Y = -0.5 * rho * diameter * cd * dx * np.abs(vy) * vy
+    return np.array([0.0, Y.sum(), 0.0, 0.0, 0.0, (x * Y).sum()])
+
+
 def lift_drag(nu_r: np.ndarray, rho: float, area: float, cd0: float, span: float,
               oswald: float = 0.7) -> np.ndarray:
     """Lift and drag of a hull in its vertical plane (Fossen 2021, Sec. 8.4.2; his

@@ -16,15 +16,16 @@ centre of gravity itself. The added mass is split:
 
 Explicitly, as passive forces each step: C_A(nu_r) nu_r (the Munk moment), D(nu_r) nu_r, the
 buoyancy rho(z) g V at the centre of buoyancy, a torpedo's hull lift, axial and cross-flow drag
-(``Hull``; ``fossen.lift_drag``, ``fossen.crossflow_drag``), its fins' lift and drag (``fins``)
-and its propeller's thrust (``propeller``), and the term M_A (omega x nu_r) that turns the
-tendons' world-frame inertia into Fossen's body-frame M_A nu_r' (for a current uniform and
-steady in the world: nu_c' = -omega x nu_c in the body). The current is the water column's at the
-body origin's depth; its change with depth along the vehicle's path (w du/dz) is neglected in
-nu_c'. At the surface a submerged vehicle keeps the fraction of its hull under the water
-(``compiled.wet_fraction``: its centre of buoyancy's height over its drawn ellipsoid's vertical
-extent) of its buoyancy, added-mass and damping forces and hull loads, and a fin, its propeller
-or a thruster in the air gives nothing: a positively buoyant vehicle floats, it does not fly.
+(``Hull``; ``fossen.lift_drag``, ``fossen.crossflow_drag`` or ``fossen.crossflow_drag_fossen``),
+its fins' lift and drag (``fins``) and its propeller's thrust (``propeller``), and the term
+M_A (omega x nu_r) that turns the tendons' world-frame inertia into Fossen's body-frame
+M_A nu_r' (for a current uniform and steady in the world: nu_c' = -omega x nu_c in the body).
+The current is the water column's at the body origin's depth; its change with depth along
+the vehicle's path (w du/dz) is neglected in nu_c'. At the surface a submerged vehicle keeps
+the fraction of its hull under the water (``compiled.wet_fraction``: its centre of buoyancy's
+height over its drawn ellipsoid's vertical extent) of its buoyancy, added-mass and damping
+forces and hull loads, and a fin, its propeller or a thruster in the air gives nothing: a
+positively buoyant vehicle floats, it does not fly.
 (The added mass in MuJoCo's mass matrix stays whole.)
 
 Units SI; world z up; body x forward, y left, z up.
@@ -43,7 +44,8 @@ from mjtether.physics import compiled
 from mjtether.physics.rigidbody import make_not_simple
 
 from .fins import fin_wrench
-from .fossen import cross, crossflow_drag, damping_force, lift_drag, m2c, restoring_force, surface_restoring
+from .fossen import (cross, crossflow_drag, crossflow_drag_fossen, damping_force, lift_drag, m2c, restoring_force,
+                     surface_restoring)
 from .propeller import Propeller
 
 
@@ -56,12 +58,22 @@ def _matrix6(name: str, value) -> np.ndarray:
     return a
 
 
+CROSSFLOW_SUMS = ("midpoint", "fossen")
+"""How a ``Hull`` sums its cross-flow drag (``Hull.crossflow``)."""
+
+
 @dataclass(frozen=True)
 class Hull:
     """A slender hull of revolution's lift and drag (Fossen 2021, Sec. 8.4.2): ``length`` L and
     ``diameter`` D (m); axial drag coefficient ``axial_cd`` on the frontal area pi D^2 / 4;
     the 2-D ``crossflow_cd`` of its section, summed over ``strips`` strips; lift on the
-    ``reference_area`` (m^2; Fossen: 0.7 L D) with span D and Oswald factor ``oswald``."""
+    ``reference_area`` (m^2; Fossen: 0.7 L D) with span D and Oswald factor ``oswald``.
+
+    ``crossflow`` picks the cross-flow sum: "midpoint" (the default; ``fossen.crossflow_drag``)
+    takes the midpoint rule of the strip integral over the hull, in sway and heave along each
+    strip's cross-flow (sway, heave, pitch and yaw loads); "fossen"
+    (``fossen.crossflow_drag_fossen``) sums it as Fossen (2021) publishes it for his REMUS 100:
+    ``strips`` + 1 points from tail to nose each weighted L / ``strips``, in sway and yaw only."""
 
     length: float
     diameter: float
@@ -70,6 +82,7 @@ class Hull:
     reference_area: float
     oswald: float = 0.7
     strips: int = 20
+    crossflow: str = "midpoint"
 
     def __post_init__(self):
         for key, unit in (("length", "m"), ("diameter", "m"), ("reference_area", "m^2"), ("oswald", "")):
@@ -77,12 +90,16 @@ class Hull:
         for key in ("axial_cd", "crossflow_cd"):
             _checks.non_negative(f"hull.{key}", getattr(self, key))
         _checks.positive_int("hull.strips", self.strips)
+        if not isinstance(self.crossflow, str) or self.crossflow not in CROSSFLOW_SUMS:
+            raise ValueError(f"hull.crossflow must be one of {', '.join(map(repr, CROSSFLOW_SUMS))}, "
+                             f"got {self.crossflow!r}")
 
     def wrench(self, nu_r: np.ndarray, rho: float) -> np.ndarray:
         """Lift, axial and cross-flow drag (body frame, N, N m about the origin)."""
         cd0 = self.axial_cd * np.pi * self.diameter ** 2 / 4.0 / self.reference_area
+        crossflow = crossflow_drag_fossen if self.crossflow == "fossen" else crossflow_drag
         return (lift_drag(nu_r, rho, self.reference_area, cd0, self.diameter, self.oswald)
-                + crossflow_drag(nu_r, rho, self.length, self.diameter, self.crossflow_cd, self.strips))
+                + crossflow(nu_r, rho, self.length, self.diameter, self.crossflow_cd, self.strips))
 
 
 @dataclass(frozen=True)

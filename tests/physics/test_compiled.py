@@ -169,12 +169,17 @@ def test_rigid_body_loads_match_the_numpy_kernel(density, current):
 
 def _vehicle(name):
     """A shipped vehicle; ``remus100_stall``: the REMUS 100 with fins that stall at 10 deg (to 60 %
-    of their peak lift) and turn to 30 deg."""
+    of their peak lift) and turn to 30 deg; ``remus100_midpoint``: the REMUS 100 with the
+    midpoint cross-flow sum (``hull.crossflow = "midpoint"``; its file has Fossen's)."""
     import dataclasses
     import math
 
     from mjtether.vehicles.files import load_vehicle
 
+    if name == "remus100_midpoint":
+        vs = load_vehicle("remus100")
+        hull = dataclasses.replace(vs.hydro.hull, crossflow="midpoint")
+        return dataclasses.replace(vs, hydro=dataclasses.replace(vs.hydro, hull=hull))
     if name != "remus100_stall":
         return load_vehicle(name)
     vs = load_vehicle("remus100")
@@ -202,16 +207,17 @@ def _vehicle_wrenches(monkeypatch, kernels, name, water, states):
     return np.array(out)
 
 
-@pytest.mark.parametrize("name", ["remus100", "remus100_stall", "bluerov2_heavy", "otter"])
+@pytest.mark.parametrize("name", ["remus100", "remus100_midpoint", "remus100_stall", "bluerov2_heavy", "otter"])
 @pytest.mark.parametrize("density, current", PROFILES, ids=lambda p: type(p).__name__)
 def test_vehicle_wrench_matches_the_numpy_kernel(monkeypatch, name, density, current):
     """Random states of a vehicle (orientation, depth 0.5-60 m, or for the Otter heave within
     0.3 m of its waterline, velocities, fin angles up to 0.5 rad, past a 10 deg stall for
     ``remus100_stall``, shaft speeds ahead and astern) in each water column: the compiled
     ``vehicle_wrench`` against ``BoundVehicle.wrench``'s NumPy path (hull lift and drag,
-    cross-flow, fins, propeller, C_A with its zeroed entries, faded damping, buoyancy, a surface
-    vessel's hydrostatics about its centre of flotation and its cross-flow drag; a submerged
-    vehicle at the surface, its hull partly wet, fins and thrusters in the air)."""
+    cross-flow by Fossen's sum and by the midpoint rule, fins, propeller, C_A with its zeroed
+    entries, faded damping, buoyancy, a surface vessel's hydrostatics about its centre of
+    flotation and its cross-flow drag; a submerged vehicle at the surface, its hull partly wet,
+    fins and thrusters in the air)."""
     from mjtether.vehicles.files import build_vehicle
 
     water = wm.WaterColumn(depth=100.0, density=density, current=current)
