@@ -136,7 +136,7 @@ def _run_dragged(cb: float, hold: float = 8.0, average_from: float = 3.0):
     fa, fb = [], []
     with mt.Simulation(spec, water, [tm]) as sim:
         bt = sim.tether()
-        for k in range(int(round((DRAG_S + hold) / dt))):
+        for k in range(round((DRAG_S + hold) / dt)):
             s = min((k + 1) * dt / DRAG_S, 1.0)
             sim.data.mocap_pos[0] = far + [DRAG * (1.0 - math.cos(math.pi * s)) / 2, 0.0, 0.0]
             sim.step()

@@ -83,7 +83,7 @@ def test_static_scenario_settles_to_the_quasi_static_answer():
     try:
         r.bt.set_state(r.sim.data, nodes=wrong.nodes, velocity=np.zeros_like(wrong.nodes))
         r.sim.forward()
-        for _ in range(int(round(30.0 / r.sim.timestep))):
+        for _ in range(round(30.0 / r.sim.timestep)):
             r.step()
         f_ship, f_tow = r.named.ship_force, r.named.tow_force
         nodes = r.bt.nodes(r.sim.data)

@@ -77,7 +77,7 @@ def test_lazy_wave_scenario_starts_from_and_holds_its_steady_state(heading_deg, 
     r = ScenarioRun(sc)
     try:
         weakest = np.inf
-        for _ in range(int(round(10.0 / r.sim.timestep))):
+        for _ in range(round(10.0 / r.sim.timestep)):
             r.step()
             f = raw_element_forces(r.bt, r.sim.data)
             np.testing.assert_array_equal(r.bt.element_tension(r.sim.data), np.maximum(-f, 0.0))
