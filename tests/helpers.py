@@ -51,3 +51,16 @@ def pose_errors(run) -> tuple[float, float]:
     tilt = math.degrees(math.acos(min(1.0, float(R[:, 2] @ normal))))
     heading = math.degrees((yaw - run.heading_ref + math.pi) % (2 * math.pi) - math.pi)
     return tilt, abs(heading)
+
+
+def raw_element_forces(bt, data) -> np.ndarray:
+    """MuJoCo's own constraint force on each element's equality row (``efc_force``), shape
+    (n,), read without mjtether's readouts (which clip at zero): negative pulls the element's
+    nodes together (tension), positive pushes them apart; 0 where the equality is switched off
+    (slack, or on the drum)."""
+    eq = int(mujoco.mjtConstraint.mjCNSTR_EQUALITY)
+    n = data.nefc
+    rows = np.nonzero((data.efc_type[:n] == eq) & (data.efc_id[:n] >= bt.eq0) & (data.efc_id[:n] < bt.eq0 + bt.n))[0]
+    f = np.zeros(bt.n)
+    f[data.efc_id[rows] - bt.eq0] = data.efc_force[rows]
+    return f

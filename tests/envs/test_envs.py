@@ -119,16 +119,27 @@ def test_ten_thousand_random_steps(cls):
 
 
 def test_baselines_do_their_job():
-    """The payout rule pays out at the walker's speed; steering to the goal reaches it."""
+    """The payout rule pays out at the walker's speed (Khan et al.'s Eq. 30): over 6 s of
+    TetherWinch-v0 (seed 1, after 3 s of the rule), the cable paid out equals the distance the
+    walker's torso covered, summed from MuJoCo's own body positions (``xpos``) after every
+    environment step (0.1 s), to 5 % (the rule holds the torso's velocity of the start of each
+    0.1 s step while the gait makes the speed vary within a stride, and the 0.1 s chords cut the
+    gait's sway a little short; measured: 1.6 %). Steering to the goal reaches it."""
     env = gym.make(IDS[0])
     try:
         env.reset(seed=1)
         for _ in range(30):
             env.step(FollowPayout()(env))
-        a = FollowPayout()(env)
-        _, _, v = env.unwrapped.robot_kinematics()
-        assert a[0] * env.unwrapped.max_rate == pytest.approx(float(np.hypot(*v)), rel=1e-6)
-        assert env.unwrapped.runner.winch.current_rate > 0.05
+        run = env.unwrapped.runner
+        d = run.sim.data
+        length0, p, path = run.bt.deployed_length, d.xpos[run.torso][:2].copy(), 0.0
+        for _ in range(60):
+            env.step(FollowPayout()(env))
+            q = d.xpos[run.torso][:2].copy()
+            path, p = path + float(np.hypot(*(q - p))), q
+        paid = run.bt.deployed_length - length0
+        assert path > 1.0  # the walker walked (1.5 m)
+        assert paid == pytest.approx(path, rel=0.05)
     finally:
         env.close()
     env = gym.make(IDS[1])
