@@ -248,7 +248,6 @@ def make_plan(scenario, varies: list[Vary], *, sets=(), samples: int | None = No
     import mujoco
 
     from mjtether import __version__
-
     from mjtether.io.packagedata import shipped_example
 
     name = str(scenario)
