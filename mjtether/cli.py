@@ -48,7 +48,7 @@ def main(argv=None) -> int:
     _set_option(solve_cmd)
     sweep_cmd = sub.add_parser("sweep", help="run a scenario over a grid or a random sample of key values; one "
                                "row of figures per case (see mjtether.sweep)")
-    sweep_cmd.add_argument("scenario", help="scenario TOML file")
+    sweep_cmd.add_argument("scenario", help="scenario TOML file, or a shipped example by name (default_walker)")
     _set_option(sweep_cmd)
     sweep_cmd.add_argument("--vary", action="append", required=True, metavar="KEY=SPEC",
                            help="a key and its values (repeatable): START:STOP:COUNT (both ends included, e.g. "

@@ -1,4 +1,5 @@
-"""Benchmark numbers in README.md and docs/*.md, from the committed JSON in docs/bench/.
+"""Benchmark numbers in README.md and docs/*.md (the site's performance page, docs/performance.md,
+gathers them all), from the committed JSON in docs/bench/.
 
 Every number in the docs that a benchmark measures sits inside a marker (an HTML comment, which
 GitHub does not show)::

@@ -1,7 +1,7 @@
 """The package's layout: imports run one way, modules stay small, and the flat layout's module
 paths still import.
 
-The ranks below are the README's "Layout" list: a module may import only modules of a lower
+The ranks below are the "Package layout" list of docs/layout.md: a module may import only modules of a lower
 rank or of its own area. Read from the source (``ast``), function-local imports included, so a
 late import cannot hide an upward dependency."""
 

@@ -543,7 +543,7 @@ def _first_shot(shots):
 def _solve_top_force(cable: _Cable, pb: dict, F, J, tol: float, max_iterations: int):
     """Newton's method on the top force with a backtracking line search (``_newton``); where it
     stalls, Levenberg-Marquardt (scipy's ``root``, method "lm") from the same start, whose
-    damped steps reach solutions Newton's full steps overshoot: the README's 800 m line in a
+    damped steps reach solutions Newton's full steps overshoot: docs/python_api.md's 800 m line in a
     3 kn surface current, whose start Newton could not leave, converges so to the state the
     dynamic model settles towards. Returns (F, J, the converged march, residual)."""
     try:

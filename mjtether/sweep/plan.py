@@ -248,9 +248,10 @@ def make_plan(scenario, varies: list[Vary], *, sets=(), samples: int | None = No
     import mujoco
 
     from mjtether import __version__
+    from mjtether.io.packagedata import shipped_example
 
     name = str(scenario)
-    p = Path(scenario)
+    p = shipped_example(scenario) or Path(scenario)  # (a shipped example by name: "default_walker")
     if p.is_dir():
         raise SweepError(f"{name}: is a folder; give a scenario .toml file")
     try:

@@ -7,7 +7,7 @@ import mjtether as mt
 from mjtether.quasistatic import steady_state
 @pytest.mark.parametrize("span", [200.0, 400.0, 600.0])
 def test_the_readme_line_solves_in_currents_up_to_3_kn(span):
-    """The README's line (800 m, 20 mm, 1050 kg/m^3, EA 2e6 N, a density falling from 1025 to 980
+    """The docs' line (python_api.md: 800 m, 20 mm, 1050 kg/m^3, EA 2e6 N, a density falling from 1025 to 980
     kg/m^3 over 500 m) from a fixed top to the seabed 500 m down and ``span`` m away, in an
     exponential surface current (15 m decay) of 0 to 3 kn: every case solves (Newton used to
     stall at 3 kn, where its first guess sits in a basin it cannot leave; Levenberg-Marquardt then
