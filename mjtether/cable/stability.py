@@ -241,6 +241,11 @@ def max_timestep(tether: TetherSpec, water: WaterColumn, relative_speed: float |
             at about 1e6 N; the run then says so).
 
     ``math.inf`` if nothing limits the step (no current, no tension, no bending stiffness)."""
+    for name, value in (("relative_speed", relative_speed), ("tension", tension)):
+        number = isinstance(value, (int, float, np.number)) and not isinstance(value, bool)
+        if value is not None and not (number and 0.0 <= value < math.inf):
+            raise ValueError(f"max_timestep {name} = {value!r}: must be a finite number >= 0 "
+                             f"({'m/s' if name == 'relative_speed' else 'N'}), or None for the default")
     if payout not in _PAYOUT:
         raise ValueError(f"payout must be False, True, 'out', 'in' or 'both', got {payout!r}")
     drum = _PAYOUT[payout]
