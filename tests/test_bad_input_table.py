@@ -67,6 +67,11 @@ TOML = {  # name: (file body, what the one-line error must contain)
     "cable longer than the drum": ("[tether]\nlength = 500.0\n[winch]\nmax_length = 300.0\n",
                                    "tether.length = 500.0: must be in [winch.min_length, winch.max_length] = [0, 300] m"),
     "section given a value": ("tether = 5\n", "tether must be a section [tether]"),
+    "walker a million metres out": ('[robot]\ntype = "walker"\nstart = [1e6, 0.0]\n',  # (an OverflowError once)
+                                    "tether.length = 300 m: too short for its ends"),
+    "samples between steps": ("[simulation]\ntimestep = 0.005\noutput_interval = 0.0075\n",  # (was every 0.01 s)
+                              "simulation.output_interval = 0.0075: must be a whole number of simulation.timestep "
+                              "(0.005 s): 1.5 steps; give 0.005 or 0.01 s"),
     "not TOML": ("[tether\nlength = 3\n", "not valid TOML"),
 }
 
@@ -182,6 +187,42 @@ API = {  # name: (call, what the ValueError must contain)
 }
 
 
+
+
+def _on_a_sim(call):
+    """``call(sim)`` on a small simulation: 100 m of tether between fixed points 70 m apart."""
+    import mujoco
+
+    def run():
+        spec = mujoco.MjSpec()
+        spec.option.timestep = 0.005
+        water = mt.WaterColumn(depth=200.0)
+        tm = mt.add_tether(spec, mt.TetherSpec(length=100.0, segments=10), mt.FixedPoint([0, 0, 0]),
+                           mt.FixedPoint([70, 0, 0]), water=water, max_length=100.0)
+        with mt.Simulation(spec, water, [tm]) as sim:
+            call(sim)
+    return run
+
+
+_T = mt.TetherSpec(length=100.0, segments=10)
+API.update({  # (each a traceback or a silent no-op before)
+    "add_tether(None, ...)": (lambda: mt.add_tether(None, _T, mt.FixedPoint([0, 0, 0]), mt.FixedPoint([50, 0, 0])),
+                              "spec must be a mujoco.MjSpec"),
+    "add_tether('spec', ...)": (lambda: mt.add_tether("spec", _T, mt.FixedPoint([0, 0, 0]), mt.FixedPoint([50, 0, 0])),
+                                "spec must be a mujoco.MjSpec (the model to add the tether to"),
+    "max_timestep at NaN speed": (lambda: mt.stability.max_timestep(_T, mt.WaterColumn(depth=100.0),
+                                                                   relative_speed=math.nan),
+                                  "max_timestep relative_speed = nan: must be a finite number >= 0"),
+    "run for ever": (_on_a_sim(lambda sim: sim.run(math.inf)),
+                     "Simulation.run duration = inf: must be a number of seconds in [0, 1e+09]"),
+    "run backwards": (_on_a_sim(lambda sim: sim.run(-5)), "Simulation.run duration = -5: must be"),
+    "step backwards": (_on_a_sim(lambda sim: sim.step(-1)), "Simulation.step nstep must be an integer >= 1, got -1"),
+    "reel in below the span": (_on_a_sim(lambda sim: sim.tether().set_length(0.0)),
+                               "set_length length = 0.0 m: the tether's fixed ends are 70 m apart; give length >= "
+                               "70 m (inextensible)"),
+})
+
+
 @pytest.mark.parametrize("case", list(API))
 def test_bad_api_arguments_raise_value_errors_naming_them(case):
     call, message = API[case]
@@ -209,6 +250,8 @@ ENV_KWARGS = {  # name: (keyword arguments, what the error must contain)
     "NaN depth": ({"depth": math.nan}, "depth = nan"),
     "minimum above the start": ({"min_length": 200.0}, "min_length = 200.0: 200 m must be <= tether_length"),
     "text frame_skip": ({"frame_skip": "10"}, "frame_skip = '10'"),
+    "camera config as a name": ({"default_camera_config": "track"},  # (a dict-update error before)
+                                "default_camera_config = 'track': must be a dict, as in Gymnasium's MuJoCo environments"),
 }
 
 
