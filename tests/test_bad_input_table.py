@@ -162,6 +162,15 @@ def test_bad_command_line_is_refused_before_simulating(case, tmp_path, capsys):
     assert (tmp_path / "old.gif").read_bytes() == b"GIF89a"
 
 
+def test_a_tether_too_heavy_for_its_EA_names_the_keys(capsys):
+    """tether.mass_per_length at its maximum (1e4 kg/m) on the built-in scenario's EA: no steady
+    state within the tether's strength, and the one line says which keys and why (it named none)."""
+    rc, err = _run_cli(["solve", "--set", "tether.mass_per_length=1e4"], capsys)
+    assert rc == 1 and len(err) == 1, err
+    for part in ("tether.mass_per_length = 10000 kg/m", "tether.EA = 5e+06 N would stretch by", "(at most 10 %)"):
+        assert part in err[0], err[0]
+
+
 @pytest.mark.skipif(not __import__("os").path.isdir("/proc/self"), reason="needs Linux's /proc")
 def test_results_on_a_file_system_that_refuses_folders_is_one_line(tmp_path, capsys):
     """/proc takes no new folders (even for root): one line, exit 1, nothing left behind."""
