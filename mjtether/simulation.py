@@ -213,14 +213,17 @@ class Simulation:
     def run(self, duration: float, callback=None, every: float | None = None) -> None:
         """Simulate ``duration`` seconds; call ``callback(sim)`` every ``every`` seconds."""
         dt = self.timestep
-        ok = not isinstance(duration, (str, bytes, bool)) and isinstance(duration, (int, float, np.number))
-        if not (ok and 0.0 <= duration <= MAX_RUN_S):
+        try:
+            x = math.nan if isinstance(duration, (str, bytes, bool, np.bool_)) else float(duration)
+        except (TypeError, ValueError):
+            x = math.nan
+        if not 0.0 <= x <= MAX_RUN_S:
             raise ValueError(f"Simulation.run duration = {duration!r}: must be a number of seconds in [0, "
                              f"{MAX_RUN_S:g}] (0 runs nothing; it is rounded to whole steps of {dt:g} s)")
         if every is not None:
             _checks.positive("Simulation.run every", every, "s")
-        n = int(round(duration / dt))
-        k = max(1, int(round((every or duration) / dt))) if callback else n
+        n = int(round(x / dt))
+        k = max(1, int(round((every or x) / dt))) if callback else n
         done = 0
         while done < n:
             m = min(k, n - done)
