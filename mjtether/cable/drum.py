@@ -17,7 +17,7 @@ import numpy as np
 from mjtether.physics.water import WaterColumn
 
 from . import kernels
-from .builder import AXIAL_OMEGA_DT, FixedPoint, MAX_IMP, MIN_IMP, axial_params, axial_scalar
+from .builder import AXIAL_OMEGA_DT, MAX_IMP, MIN_IMP, FixedPoint, axial_params, axial_scalar
 from .layout import CableLayout
 from .loads import orient_added_mass
 

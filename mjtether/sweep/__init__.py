@@ -35,7 +35,8 @@ Output ``DIR`` (``outdir`` rules, as ``mjtether run --out``: refused if it holds
 is purely an earlier sweep and ``--overwrite`` is given; written into a staging folder and
 renamed into place complete, with a manifest):
 
-* ``cases.csv``, and ``cases.parquet`` where pyarrow is installed: one row per case (``COLUMNS`` lists the figures): ``case``
+* ``cases.csv``, and ``cases.parquet`` where pyarrow is installed: one row per case (``COLUMNS``
+  lists the figures): ``case``
   (0-based), each varied input (named by its key path, plus ``_<unit>`` where the key does not
   already end in its unit: ``tether.length_m``, ``water.current.surface_speed_kn``), ``status``
   (ok / failed), ``error``, then the figures (empty / null where not available). The CSV holds
@@ -147,7 +148,8 @@ from .plan import (
 
 __all__ = [
     "COLUMNS", "FORMAT", "MAX_CASES", "PROGRESS_FORMAT", "Case", "Journal", "Plan", "SweepError", "Vary",
-    "check_out", "cli", "have_pyarrow", "make_plan", "parse_vary", "plot", "progress_folder", "summary_figure", "require_pyarrow", "run_case",
+    "check_out", "cli", "have_pyarrow", "make_plan", "parse_vary", "plot", "progress_folder", "require_pyarrow",
+    "run_case", "summary_figure",
     "run_local", "run_ray", "sweep", "table", "write_csv", "write_parquet", "write_results",
     # the flat module's private helpers, still attributes here (tests and older code reach for them)
     "_TEXT_COLUMNS", "_RunProbe", "_atomic_write", "_claim", "_claim_and_run", "_failed_figures", "_import_ray",
