@@ -50,8 +50,13 @@ def has_display() -> bool:
 def check_camera_config(config: dict | None) -> dict:
     """``default_camera_config`` with its defaults, or a ValueError naming the bad entry."""
     config = {} if config is None else config
+    if isinstance(config, str):
+        raise ValueError(f"default_camera_config = {config!r}: must be a dict, as in Gymnasium's MuJoCo environments "
+                         f"(default_camera_config={{'camera': {config!r}}}; keys {', '.join(CAMERA_CONFIG_KEYS)}), "
+                         f"or give camera_name={config!r}")
     if not isinstance(config, dict):
-        raise ValueError(f"default_camera_config must be a dict, got {config!r}")
+        raise ValueError(f"default_camera_config = {config!r}: must be a dict with keys "
+                         f"{', '.join(CAMERA_CONFIG_KEYS)}, or None")
     unknown = sorted(set(config) - set(CAMERA_CONFIG_KEYS))
     if unknown:
         raise ValueError(f"default_camera_config: unknown key {unknown[0]!r}; allowed: {', '.join(CAMERA_CONFIG_KEYS)}")
@@ -202,6 +207,7 @@ class TetherEnv(gym.Env):
             raise ConfigError(f"{type(self).__name__}: unknown keyword argument {unknown[0]!r}; allowed: "
                               f"{', '.join(f.name for f in fields(self.Config))}, render_mode, camera_name, "
                               "camera_id, default_camera_config", unknown[0])
+        check_camera_config(default_camera_config)  # (before anything uses it: a str is refused, naming it)
         # what pickling keeps (see the class docstring)
         self._init_kwargs = dict(kwargs, render_mode=render_mode, camera_name=camera_name, camera_id=camera_id,
                                  default_camera_config=None if default_camera_config is None

@@ -13,6 +13,7 @@ import math
 import mujoco
 import numpy as np
 
+from mjtether import _checks
 from mjtether.cable import kernels
 from mjtether.cable.bound import BoundTether
 from mjtether.cable.builder import TetherModel
@@ -25,6 +26,8 @@ from mjtether.vehicles.vehicle import BoundVehicle, VehicleModel
 
 _BADQPOS, _BADQVEL, _BADQACC = (int(w) for w in (mujoco.mjtWarning.mjWARN_BADQPOS, mujoco.mjtWarning.mjWARN_BADQVEL,
                                                   mujoco.mjtWarning.mjWARN_BADQACC))
+MAX_RUN_S = 1e9
+"""The longest ``Simulation.run`` accepted (s, about 32 years): beyond it is a typo or inf."""
 MAX_NODE_SPEED = 1000.0
 """Tether node speed (m/s) taken as divergence: no cable in water moves at 1 km/s."""
 MAX_STRAIN = 1.0
@@ -138,6 +141,8 @@ class Simulation:
         the time and what went first (see ``check``)."""
         if self._closed:
             raise RuntimeError("simulation is closed")
+        if isinstance(nstep, bool) or not isinstance(nstep, (int, np.integer)) or nstep < 1:
+            raise ValueError(f"Simulation.step nstep must be an integer >= 1, got {nstep!r}")
         saved = self.save_state() if nstep > 1 else None
         self._advance(nstep)
         dispatch.raise_pending(self.data)
@@ -208,8 +213,17 @@ class Simulation:
     def run(self, duration: float, callback=None, every: float | None = None) -> None:
         """Simulate ``duration`` seconds; call ``callback(sim)`` every ``every`` seconds."""
         dt = self.timestep
-        n = int(round(duration / dt))
-        k = max(1, int(round((every or duration) / dt))) if callback else n
+        try:
+            x = math.nan if isinstance(duration, (str, bytes, bool, np.bool_)) else float(duration)
+        except (TypeError, ValueError):
+            x = math.nan
+        if not 0.0 <= x <= MAX_RUN_S:
+            raise ValueError(f"Simulation.run duration = {duration!r}: must be a number of seconds in [0, "
+                             f"{MAX_RUN_S:g}] (0 runs nothing; it is rounded to whole steps of {dt:g} s)")
+        if every is not None:
+            _checks.positive("Simulation.run every", every, "s")
+        n = int(round(x / dt))
+        k = max(1, int(round((every or x) / dt))) if callback else n
         done = 0
         while done < n:
             m = min(k, n - done)

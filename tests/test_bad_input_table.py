@@ -67,6 +67,11 @@ TOML = {  # name: (file body, what the one-line error must contain)
     "cable longer than the drum": ("[tether]\nlength = 500.0\n[winch]\nmax_length = 300.0\n",
                                    "tether.length = 500.0: must be in [winch.min_length, winch.max_length] = [0, 300] m"),
     "section given a value": ("tether = 5\n", "tether must be a section [tether]"),
+    "walker a million metres out": ('[robot]\ntype = "walker"\nstart = [1e6, 0.0]\n',  # (an OverflowError once)
+                                    "tether.length = 300 m: too short for its ends"),
+    "samples between steps": ("[simulation]\ntimestep = 0.005\noutput_interval = 0.0075\n",  # (was every 0.01 s)
+                              "simulation.output_interval = 0.0075: must be a whole number of simulation.timestep "
+                              "(0.005 s): 1.5 steps; give 0.005 or 0.01 s"),
     "not TOML": ("[tether\nlength = 3\n", "not valid TOML"),
 }
 
@@ -157,6 +162,15 @@ def test_bad_command_line_is_refused_before_simulating(case, tmp_path, capsys):
     assert (tmp_path / "old.gif").read_bytes() == b"GIF89a"
 
 
+def test_a_tether_too_heavy_for_its_EA_names_the_keys(capsys):
+    """tether.mass_per_length at its maximum (1e4 kg/m) on the built-in scenario's EA: no steady
+    state within the tether's strength, and the one line says which keys and why (it named none)."""
+    rc, err = _run_cli(["solve", "--set", "tether.mass_per_length=1e4"], capsys)
+    assert rc == 1 and len(err) == 1, err
+    for part in ("tether.mass_per_length = 10000 kg/m", "tether.EA = 5e+06 N would stretch by", "(at most 10 %)"):
+        assert part in err[0], err[0]
+
+
 @pytest.mark.skipif(not __import__("os").path.isdir("/proc/self"), reason="needs Linux's /proc")
 def test_results_on_a_file_system_that_refuses_folders_is_one_line(tmp_path, capsys):
     """/proc takes no new folders (even for root): one line, exit 1, nothing left behind."""
@@ -180,6 +194,42 @@ API = {  # name: (call, what the ValueError must contain)
     "duration as numpy NaN": (lambda: Simulation(duration=np.float64("nan")), "simulation.duration = nan"),
     "load with a bad override": (lambda: load_scenario(overrides=["water.depth=-3"]), "water.depth = -3"),
 }
+
+
+
+
+def _on_a_sim(call):
+    """``call(sim)`` on a small simulation: 100 m of tether between fixed points 70 m apart."""
+    import mujoco
+
+    def run():
+        spec = mujoco.MjSpec()
+        spec.option.timestep = 0.005
+        water = mt.WaterColumn(depth=200.0)
+        tm = mt.add_tether(spec, mt.TetherSpec(length=100.0, segments=10), mt.FixedPoint([0, 0, 0]),
+                           mt.FixedPoint([70, 0, 0]), water=water, max_length=100.0)
+        with mt.Simulation(spec, water, [tm]) as sim:
+            call(sim)
+    return run
+
+
+_T = mt.TetherSpec(length=100.0, segments=10)
+API.update({  # (each a traceback or a silent no-op before)
+    "add_tether(None, ...)": (lambda: mt.add_tether(None, _T, mt.FixedPoint([0, 0, 0]), mt.FixedPoint([50, 0, 0])),
+                              "spec must be a mujoco.MjSpec"),
+    "add_tether('spec', ...)": (lambda: mt.add_tether("spec", _T, mt.FixedPoint([0, 0, 0]), mt.FixedPoint([50, 0, 0])),
+                                "spec must be a mujoco.MjSpec (the model to add the tether to"),
+    "max_timestep at NaN speed": (lambda: mt.stability.max_timestep(_T, mt.WaterColumn(depth=100.0),
+                                                                   relative_speed=math.nan),
+                                  "max_timestep relative_speed = nan: must be a finite number >= 0"),
+    "run for ever": (_on_a_sim(lambda sim: sim.run(math.inf)),
+                     "Simulation.run duration = inf: must be a number of seconds in [0, 1e+09]"),
+    "run backwards": (_on_a_sim(lambda sim: sim.run(-5)), "Simulation.run duration = -5: must be"),
+    "step backwards": (_on_a_sim(lambda sim: sim.step(-1)), "Simulation.step nstep must be an integer >= 1, got -1"),
+    "reel in below the span": (_on_a_sim(lambda sim: sim.tether().set_length(0.0)),
+                               "set_length length = 0.0 m: the tether's fixed ends are 70 m apart; give length >= "
+                               "70 m (inextensible)"),
+})
 
 
 @pytest.mark.parametrize("case", list(API))
@@ -209,6 +259,8 @@ ENV_KWARGS = {  # name: (keyword arguments, what the error must contain)
     "NaN depth": ({"depth": math.nan}, "depth = nan"),
     "minimum above the start": ({"min_length": 200.0}, "min_length = 200.0: 200 m must be <= tether_length"),
     "text frame_skip": ({"frame_skip": "10"}, "frame_skip = '10'"),
+    "camera config as a name": ({"default_camera_config": "track"},  # (a dict-update error before)
+                                "default_camera_config = 'track': must be a dict, as in Gymnasium's MuJoCo environments"),
 }
 
 

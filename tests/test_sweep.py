@@ -266,15 +266,25 @@ def test_a_foreign_progress_folder_is_refused(tmp_path, scenario, capsys):
     assert not out.exists()
 
 
-@pytest.mark.parametrize("module, extra", [("pyarrow", []), ("ray", ["--ray"])])
-def test_missing_optional_dependency_is_one_line_saying_what_to_install(tmp_path, scenario, monkeypatch, capsys,
-                                                                        module, extra):
-    monkeypatch.setitem(sys.modules, module, None)  # import fails
+def test_missing_ray_is_one_line_saying_what_to_install(tmp_path, scenario, monkeypatch, capsys):
+    monkeypatch.setitem(sys.modules, "ray", None)  # import fails
     out = tmp_path / "sw"
-    assert _sweep(scenario, out, "--vary", "tether.length=110,120", *extra) == 2
+    assert _sweep(scenario, out, "--vary", "tether.length=110,120", "--ray") == 2
     err = capsys.readouterr().err.strip()
-    assert "\n" not in err and f"pip install mjtether[{'sweep' if module == 'pyarrow' else 'ray'}]" in err
+    assert "\n" not in err and "pip install mjtether[ray]" in err
     _nothing_written(tmp_path, out)
+
+
+def test_without_pyarrow_a_sweep_runs_and_writes_the_csv_only(tmp_path, scenario, monkeypatch, capsys):
+    """The default install (no pyarrow, the [sweep] extra's) runs a sweep: cases.csv and the plot,
+    no cases.parquet, and sweep.json says so."""
+    monkeypatch.setitem(sys.modules, "pyarrow", None)  # import fails
+    monkeypatch.setitem(sys.modules, "pyarrow.parquet", None)
+    out = tmp_path / "sw"
+    assert _sweep(scenario, out, "--vary", "tether.length=110,120") == 0, capsys.readouterr().err
+    assert [r["status"] for r in _rows(out)] == ["ok", "ok"]
+    assert (out / "summary.png").is_file() and not (out / "cases.parquet").exists()
+    assert json.loads((out / "sweep.json").read_text())["parquet"] is False
 
 
 @pytest.mark.slow

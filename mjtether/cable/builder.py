@@ -503,6 +503,9 @@ def add_tether(
     ``name/``, then placed and weighed: an environment's resets, whose tethers differ in length
     and position only, do not rebuild them.
     """
+    if not isinstance(spec, mujoco.MjSpec):
+        raise ValueError(f"spec must be a mujoco.MjSpec (the model to add the tether to, e.g. mujoco.MjSpec() or "
+                         f"mujoco.MjSpec.from_file(path)), got {type(spec).__name__} {spec!r:.40}")
     if seabed_friction is not None:
         _checks.non_negative("seabed_friction", seabed_friction)
     makeup = None

@@ -17,7 +17,7 @@ import numpy as np
 from mjtether.physics.water import WaterColumn
 
 from . import kernels
-from .builder import AXIAL_OMEGA_DT, MAX_IMP, MIN_IMP, axial_params, axial_scalar
+from .builder import AXIAL_OMEGA_DT, MAX_IMP, MIN_IMP, FixedPoint, axial_params, axial_scalar
 from .layout import CableLayout
 from .loads import orient_added_mass
 
@@ -25,6 +25,9 @@ FAIRLEAD_SHARE = 0.05
 """The least part of the drum element, in units of l0, lumped on the fairlead node: its share
 while a node is released or taken back (``fairlead_share``)."""
 START_SLACK = 0.01
+MAX_SET_STRAIN = 0.1
+"""``set_length`` refuses a tether between two fixed points shorter than their distance over
+1 + this (elastic) or than their distance (inextensible): it could only reach them torn."""
 """An element shorter than its rest length by more than this fraction starts slack."""
 SPLIT, MERGE = 1.2, 0.1
 """The drum element (next to the fairlead) releases a node from the drum when its rest length
@@ -334,6 +337,15 @@ class Drum:
         self.payout_rate = (length_m - self.deployed_length) / L.model.opt.timestep if rate is None else float(rate)
         if L.drum_eq is None:
             raise ValueError("set_length: this tether has a free start end and no drum")
+        tm = L.tm
+        if isinstance(tm.start, FixedPoint) and isinstance(tm.end, FixedPoint):
+            span = float(np.linalg.norm(np.subtract(tm.end.position, tm.start.position)))
+            elastic = L.spec.EA is not None
+            least = span / (1.0 + MAX_SET_STRAIN) if elastic else span
+            if length_m < least:
+                raise ValueError(f"set_length length = {length!r} m: the tether's fixed ends are {span:.4g} m apart; "
+                                 f"give length >= {least:.4g} m (" + ("elastic, stretched at most "
+                                 f"{100 * MAX_SET_STRAIN:.0f} %)" if elastic else "inextensible)"))
         if length_m > L.max_length * (1 + 1e-9) + 1e-9:
             raise ValueError(f"length {length_m:g} m exceeds the tether's max_length {L.max_length:g} m "
                              "(give add_tether(max_length=...) the winch's max_length)")

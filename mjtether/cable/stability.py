@@ -219,6 +219,16 @@ def ea_timestep(tether: TetherSpec, water: WaterColumn) -> float:
     return AXIAL_OMEGA_DT / (omega * math.sqrt(1.0 - MAX_IMP))
 
 
+def _as_float(value) -> float:
+    """``value`` as a float, NaN if it is not a number (text and booleans are not)."""
+    if isinstance(value, (str, bytes, bool, np.bool_)):
+        return math.nan
+    try:
+        return float(value)
+    except (TypeError, ValueError):
+        return math.nan
+
+
 def max_timestep(tether: TetherSpec, water: WaterColumn, relative_speed: float | None = None,
                  tension: float | None = None, *, payout: bool | str = False, walker: bool = False,
                  keep_EA: bool = False) -> float:
@@ -241,6 +251,10 @@ def max_timestep(tether: TetherSpec, water: WaterColumn, relative_speed: float |
             at about 1e6 N; the run then says so).
 
     ``math.inf`` if nothing limits the step (no current, no tension, no bending stiffness)."""
+    for name, value in (("relative_speed", relative_speed), ("tension", tension)):
+        if value is not None and not (_as_float(value) >= 0.0 and _as_float(value) < math.inf):
+            raise ValueError(f"max_timestep {name} = {value!r}: must be a finite number >= 0 "
+                             f"({'m/s' if name == 'relative_speed' else 'N'}), or None for the default")
     if payout not in _PAYOUT:
         raise ValueError(f"payout must be False, True, 'out', 'in' or 'both', got {payout!r}")
     drum = _PAYOUT[payout]

@@ -66,7 +66,8 @@ class Simulation(Section):
     PATH = "simulation"
     duration: float = param(120.0, 1e-3, 1e6, "s", "simulated time")
     timestep: float = param(0.005, 1e-5, 0.05, "s", "MuJoCo time step (see mjtether.cable.stability)")
-    output_interval: float = param(0.5, 1e-3, 1e4, "s", "time between recorded samples")
+    output_interval: float = param(0.5, 1e-3, 1e4, "s", "time between recorded samples: a whole number of "
+                                   "simulation.timestep")
     start: str = param("steady", doc="steady: from the quasi-static steady state, or stop with the reason if there "
                        "is none; settle: the cable falls into place from a guessed shape while the robot is held, "
                        "then the robot is released; auto: steady if it exists, else settle",
@@ -82,6 +83,11 @@ class Simulation(Section):
     def _check(self):
         if self.output_interval < self.timestep:
             self._bad("output_interval", f"must be >= simulation.timestep ({self.timestep:g} s)")
+        k = self.output_interval / self.timestep
+        if abs(k - round(k)) > 1e-6 * k:  # (a sample is taken every round(k) steps)
+            lo, hi = math.floor(k) * self.timestep, math.ceil(k) * self.timestep
+            self._bad("output_interval", f"must be a whole number of simulation.timestep ({self.timestep:g} s): "
+                      f"{k:.4g} steps; give {lo:.6g} or {hi:.6g} s")
         if self.duration < self.timestep:
             self._bad("duration", f"must be at least one simulation.timestep ({self.timestep:g} s)")
 

@@ -217,12 +217,33 @@ def steady_start(scene: Scene, top, robot, dt: float):
     strain = np.nan_to_num(ss.tension / (np.inf if EA is None else EA), nan=0.0)
     if strain.max() > MAX_START_STRAIN:
         j = int(np.argmax(strain))
-        return None, (f"no steady state within the tether's strength (it would be stretched by "
-                      f"{100 * strain[j]:.0f} %, at {ss.tension[j]:.3g} N)")
+        return None, _too_heavy_note(scene, 100 * strain[j], ss.tension[j])
     below = float(np.max(scene.seabed_z(x[:, 0], x[:, 1]) + radius - x[:, 2]))
     if below > 2 * radius:
         return None, f"no steady state clear of the sloped seabed (it crosses it by {below:.2f} m)"
     return ss, note
+
+
+def _too_heavy_note(scene: Scene, stretch_pct: float, tension: float) -> str:
+    """Why a steady state is out of the tether's strength, naming the keys that make it so: the
+    weight (or buoyancy) per metre from ``tether.mass_per_length`` / ``tether.density`` and
+    ``tether.diameter``, against ``tether.EA`` (and ``tether.rated_load`` where the tension is
+    above it)."""
+    t = scene.sc.tether
+    if t.is_makeup:
+        return (f"no steady state within the tether's strength (it would be stretched by {stretch_pct:.0f} %, at "
+                f"{tension:.3g} N: the sections' EA cannot hold their weight)")
+    spec = scene.tether_spec
+    rho = float(np.asarray(scene.water.rho(0.0)).ravel()[0])
+    wet = (spec.mu - rho * spec.area) * scene.water.gravity  # N/m, positive: sinks
+    mass = (f"tether.mass_per_length = {t.mass_per_length:g} kg/m" if t.mass_per_length > 0
+            else f"tether.density = {t.density:g} kg/m^3")
+    why = (f"{mass} and tether.diameter = {t.diameter:g} m make it {abs(wet):.3g} N/m "
+           f"{'heavy' if wet >= 0 else 'buoyant'} in water, and tether.EA = {t.EA:g} N would stretch by "
+           f"{stretch_pct:.0f} % at the {tension:.3g} N that holds it (at most {100 * MAX_START_STRAIN:.0f} %)")
+    if tension > t.rated_load:
+        why += f"; tether.rated_load = {t.rated_load:g} N is exceeded too"
+    return f"no steady state within the tether's strength: {why}; give a lighter or thinner tether or a larger EA"
 
 
 def floats_over_seabed(scene: Scene, nodes: np.ndarray) -> bool:

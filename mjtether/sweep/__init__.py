@@ -35,7 +35,8 @@ Output ``DIR`` (``outdir`` rules, as ``mjtether run --out``: refused if it holds
 is purely an earlier sweep and ``--overwrite`` is given; written into a staging folder and
 renamed into place complete, with a manifest):
 
-* ``cases.csv``, ``cases.parquet``: one row per case (``COLUMNS`` lists the figures): ``case``
+* ``cases.csv``, and ``cases.parquet`` where pyarrow is installed: one row per case (``COLUMNS``
+  lists the figures): ``case``
   (0-based), each varied input (named by its key path, plus ``_<unit>`` where the key does not
   already end in its unit: ``tether.length_m``, ``water.current.surface_speed_kn``), ``status``
   (ok / failed), ``error``, then the figures (empty / null where not available). The CSV holds
@@ -47,7 +48,8 @@ renamed into place complete, with a manifest):
 
 Parquet needs pyarrow, an optional dependency (``pip install mjtether[sweep]``, also in ``dev``):
 it is about 170 MB installed, too much to impose on every user of ``mjtether run``. Without it
-``mjtether sweep`` stops at once with that one-line instruction, before anything runs.
+``mjtether sweep`` runs all the same and writes ``cases.csv`` only (``sweep.json``'s
+``parquet`` says which); the CSV holds the same rows at full precision.
 
 Resume (design). The rule for results stays as in ``outdir``: ``DIR`` appears complete or not at
 all. Progress therefore lives outside it, in a hidden folder beside it,
@@ -116,9 +118,11 @@ from .outputs import (
     Journal,
     _atomic_write,
     check_out,
+    have_pyarrow,
     plot,
     progress_folder,
     require_pyarrow,
+    summary_figure,
     table,
     write_csv,
     write_parquet,
@@ -144,7 +148,8 @@ from .plan import (
 
 __all__ = [
     "COLUMNS", "FORMAT", "MAX_CASES", "PROGRESS_FORMAT", "Case", "Journal", "Plan", "SweepError", "Vary",
-    "check_out", "cli", "make_plan", "parse_vary", "plot", "progress_folder", "require_pyarrow", "run_case",
+    "check_out", "cli", "have_pyarrow", "make_plan", "parse_vary", "plot", "progress_folder", "require_pyarrow",
+    "run_case", "summary_figure",
     "run_local", "run_ray", "sweep", "table", "write_csv", "write_parquet", "write_results",
     # the flat module's private helpers, still attributes here (tests and older code reach for them)
     "_TEXT_COLUMNS", "_RunProbe", "_atomic_write", "_claim", "_claim_and_run", "_failed_figures", "_import_ray",
@@ -170,7 +175,6 @@ def sweep(scenario, vary: list[str], out, *, sets=(), samples: int | None = None
     SweepError, KeyboardInterrupt or SystemExit (SIGTERM) — the finished cases are kept."""
     if jobs is not None and jobs < 1:
         raise SweepError(f"--jobs {jobs}: must be at least 1")
-    require_pyarrow()
     if ray is not None:
         _import_ray()
     varies = [parse_vary(v) for v in vary]

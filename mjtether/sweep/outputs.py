@@ -179,6 +179,18 @@ def plot(path: Path, plan: Plan, names, rows) -> None:
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+
+    fig = summary_figure(plan, names, rows)
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def summary_figure(plan: Plan, names, rows):
+    """The figure of ``plot``: a panel per figure (peak ship-end tension, length on the seabed),
+    the ok cases as points, each failed case a red x at its own x along the panel's bottom (both
+    panels' x ranges take in every case, failed or not, so no x falls outside its panel)."""
+    import matplotlib
+    import matplotlib.pyplot as plt
     from matplotlib import transforms
 
     col = {n: j for j, n in enumerate(names)}
@@ -221,6 +233,9 @@ def plot(path: Path, plan: Plan, names, rows) -> None:
             ax.scatter([xpos[k] for k in bad], [0.03] * len(bad), marker="x", color="red", s=40, transform=trans,
                        zorder=4, label=f"failed ({len(bad)})", clip_on=False)
             ax.legend(loc="upper right", fontsize=8)
+        lo, hi = min(xpos), max(xpos)
+        pad = 0.05 * (hi - lo) if hi > lo else max(0.5, 0.05 * abs(lo))
+        ax.set_xlim(lo - pad, hi + pad)  # (the failed cases' x (axes y) are not in the data limits)
         ax.set_xlabel(vx.column)
         ax.set_ylabel(label)
         if xticks is not None:
@@ -235,8 +250,7 @@ def plot(path: Path, plan: Plan, names, rows) -> None:
         sm = matplotlib.cm.ScalarMappable(norm=norm, cmap=cmap)
         fig.colorbar(sm, ax=axes, label=vc.column)
     fig.suptitle(f"{len(rows)} cases, {len(bad)} failed" + (f" ({plan.samples} random draws)" if plan.samples else ""))
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    return fig
 
 
 def write_results(target: Path, plan: Plan, records: dict, *, overwrite: bool) -> Path:
@@ -249,14 +263,16 @@ def write_results(target: Path, plan: Plan, records: dict, *, overwrite: bool) -
     names, rows = table(plan, records)
     with Staging(target, overwrite=overwrite) as st:
         write_csv(st.path / "cases.csv", names, rows)
-        write_parquet(st.path / "cases.parquet", plan, names, rows)
+        parquet = have_pyarrow()
+        if parquet:
+            write_parquet(st.path / "cases.parquet", plan, names, rows)
         plot(st.path / "summary.png", plan, names, rows)
         (st.path / "scenario.toml").write_text(plan.text)
         n_ok = sum(1 for r in rows if r[names.index("status")] == "ok")
         meta = {"format": FORMAT, "scenario_file": plan.scenario, "set": plan.sets,
                 "vary": [{"key": v.key, "spec": v.spec, "column": v.column} for v in plan.varies],
                 "samples": plan.samples, "seed": plan.seed if plan.samples else None,
-                "cases": len(rows), "ok": n_ok, "failed": len(rows) - n_ok,
+                "parquet": parquet, "cases": len(rows), "ok": n_ok, "failed": len(rows) - n_ok,
                 "columns": {n: m for n, m in COLUMNS},
                 "case_overrides": [c.overrides for c in plan.cases],
                 "mjtether": __version__, "mujoco": mujoco.__version__}
@@ -283,7 +299,19 @@ def check_out(out, *, overwrite: bool, scenario) -> Path:
     return target
 
 
+def have_pyarrow() -> bool:
+    """Whether pyarrow is installed: ``cases.parquet`` is written then (``cases.csv`` always)."""
+    try:
+        import pyarrow  # noqa: F401
+        import pyarrow.parquet  # noqa: F401
+    except ImportError:
+        return False
+    return True
+
+
 def require_pyarrow() -> None:
+    """Raise SweepError unless pyarrow is installed (a sweep no longer needs it: see
+    ``have_pyarrow``)."""
     try:
         import pyarrow  # noqa: F401
         import pyarrow.parquet  # noqa: F401
