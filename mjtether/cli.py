@@ -280,7 +280,8 @@ def _run_network(args, net) -> int:
 
 
 def _render(args) -> int:
-    sets = args.set + ([f"simulation.duration={args.duration!r}"] if args.duration is not None else [])
+    sets = args.set + ([(f"simulation.duration={args.duration!r}", f"--duration {args.duration:g}")]
+                       if args.duration is not None else [])
     sc = _load(args.scenario, sets)
     if sc is None:
         return 2
