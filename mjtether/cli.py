@@ -3,7 +3,9 @@
 from __future__ import annotations
 
 import argparse
+import contextlib
 import sys
+import warnings
 from pathlib import Path
 
 from mjtether import _checks, demo
@@ -67,6 +69,39 @@ def main(argv=None) -> int:
     sweep_cmd.add_argument("--restart", action="store_true",
                            help="run every case again, discarding those an interrupted sweep into DIR finished")
     args = ap.parse_args(argv)
+    with _plain_warnings(f"mjtether {args.command}"):
+        return _dispatch(args)
+
+
+@contextlib.contextmanager
+def _plain_warnings(prefix: str):
+    """Warnings of MuJoCo (``MujocoWarning``) and of mjtether's own kinds shown as one plain line,
+    ``prefix: warning: ...``, without Python's source line and file path, and above the progress bar
+    rather than glued to it (others, e.g. numpy's, as Python shows them)."""
+    from tqdm import tqdm
+
+    from mjtether.io.mjlog import MujocoWarning
+
+    shown = warnings.showwarning
+
+    def show(message, category, filename, lineno, file=None, line=None):
+        if not (issubclass(category, MujocoWarning) or category.__module__.split(".")[0] == "mjtether"):
+            return shown(message, category, filename, lineno, file, line)
+        who = "MuJoCo warning" if issubclass(category, MujocoWarning) else "warning"
+        text = " ".join(str(message).split())
+        try:
+            tqdm.write(f"{prefix}: {who}: {text}", file=file or sys.stderr)
+        except (OSError, ValueError):  # (as Python does: a closed or broken stderr loses the warning)
+            pass
+
+    warnings.showwarning = show
+    try:
+        yield
+    finally:
+        warnings.showwarning = shown
+
+
+def _dispatch(args) -> int:
     if args.command == "run":
         return _run(args)
     if args.command == "solve":
