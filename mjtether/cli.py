@@ -415,10 +415,10 @@ def _solve(args) -> int:
         print(f"mjtether solve: {exc}", file=sys.stderr)
         return 2
     except RunFailed as exc:
-        print(f"mjtether solve: {exc}", file=sys.stderr)
+        print(f"mjtether solve: {_no_steady_state(exc.reason) if exc.reason else exc}", file=sys.stderr)
         return 1
     try:
-        ss = r.initial
+        ss = r.initial if r.initial is not None else r.steady_state  # (solved, even where the run settles)
         if not r.tethered:
             print("no tether (tether.attached = false): nothing to solve; the vehicle runs alone, starting level "
                   "and at rest")
@@ -428,7 +428,7 @@ def _solve(args) -> int:
                   "cable out; its steady state is the empty one")
             return 0
         if ss is None:
-            print(f"mjtether solve: no steady state: {r.initial_note}", file=sys.stderr)
+            print(f"mjtether solve: {_no_steady_state(r.steady_note)}", file=sys.stderr)
             return 1
         np.set_printoptions(precision=1, suppress=True)
         print(f"steady state of {r.tether_spec.length:g} m of tether ({r.tether_spec.segments} elements):")
@@ -439,6 +439,10 @@ def _solve(args) -> int:
     finally:
         r.close()
     return 0
+
+
+def _no_steady_state(note: str) -> str:
+    return note if note.startswith("no steady state") else f"no steady state: {note}"
 
 
 def _print_khan(r) -> None:

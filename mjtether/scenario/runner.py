@@ -55,7 +55,12 @@ class EAWarning(UserWarning):
 
 
 class RunFailed(RuntimeError):
-    """The run stopped: divergence, or the tether's rated load was exceeded."""
+    """The run stopped: divergence, or the tether's rated load was exceeded; or it could not
+    start (``reason``: why there is no steady state to start from, else None)."""
+
+    def __init__(self, message: str, reason: str | None = None):
+        super().__init__(message)
+        self.reason = reason
 
 
 class ScenarioRun:
@@ -98,6 +103,8 @@ class ScenarioRun:
             self.initial, self.initial_note = start.steady_start(scene, top, robot, dt)
         else:
             self.initial, self.initial_note = None, "no tether: the vehicle runs alone, level and at rest"
+        # the quasi-static steady state and its note (why there is none), before a settling start replaces them
+        self.steady_state, self.steady_note = self.initial, self.initial_note
         how = sc.simulation.start
         if not self.tethered or empty:
             settle = False
@@ -107,8 +114,9 @@ class ScenarioRun:
             self.initial_note = f"settled with the robot {held}" + (
                 "" if how == "settle" else f" (no steady state: {self.initial_note})")
         elif self.initial is None:
-            raise RunFailed(f"no consistent start: {self.initial_note}; set simulation.start = \"settle\" to let "
-                            "the cable fall into place while the robot is held")
+            settle_hint = "" if self.initial_note.startswith("tether.length") else (
+                "; set simulation.start = \"settle\" to let the cable fall into place while the robot is held")
+            raise RunFailed(f"no consistent start: {self.initial_note}{settle_hint}", reason=self.initial_note)
         else:
             settle = False
         # a steady state solved on a level seabed, lying above a sloped or gridded one, falls onto it
