@@ -38,8 +38,10 @@ def main(argv=None) -> int:
     run_cmd.add_argument("--video", nargs="?", const="video.mp4", metavar="NAME",
                          help="also render a video into the results folder (default name video.mp4; .mp4 or .gif)")
     _video_options(run_cmd)
-    render_cmd = sub.add_parser("render", help="render a scenario run to a video file (no display needed)")
-    render_cmd.add_argument("scenario", nargs="?", help="scenario TOML file or MoorDyn v2 input file (default: the built-in scenario)")
+    render_cmd = sub.add_parser("render", help="render a scenario run to a video file (no display needed), or "
+                                "replay a results folder of `mjtether run` without simulating again")
+    render_cmd.add_argument("scenario", nargs="?", help="scenario TOML file or MoorDyn v2 input file (default: the "
+                            "built-in scenario), or a results folder to replay (mjtether run --out DIR)")
     _set_option(render_cmd)
     render_cmd.add_argument("-o", "--output", default="run.mp4", help="video file, .mp4 (H.264) or .gif (default run.mp4)")
     render_cmd.add_argument("--duration", type=float, help="simulated seconds to render (default: the scenario's)")
@@ -315,6 +317,8 @@ def _run_network(args, net) -> int:
 
 
 def _render(args) -> int:
+    if args.scenario and Path(args.scenario).is_dir():
+        return _replay(args)
     sets = args.set + ([(f"simulation.duration={args.duration!r}", f"--duration {args.duration:g}")]
                        if args.duration is not None else [])
     sc = _load(args.scenario, sets)
@@ -338,6 +342,35 @@ def _render(args) -> int:
     colours = f"tension colours 0-{v['tension_scale_N']:g} N" if info["tethered"] else "no tether"
     print(f"{v['frames']} frames ({info['simulated_s']:.1f} s at {v['fps']:g} fps, camera {v['camera']}) in "
           f"{info['wall_time_s']:.1f} s; {colours}; wrote {v['file']}")
+    return 0
+
+
+def _replay(args) -> int:
+    """``mjtether render DIR``: the results folder DIR replayed from its saved states
+    (``mjtether.io.replay``), nothing simulated."""
+    from mjtether.io.render import RenderUnavailable, VideoSettings
+    from mjtether.io.replay import ReplayError, replay
+
+    if args.set:
+        print(f"mjtether render: --set {args.set[0]}: a results folder is replayed as it was run; --set applies to "
+              "a scenario file", file=sys.stderr)
+        return 2
+    try:
+        settings = VideoSettings(width=args.width, height=args.height, fps=args.fps, camera=args.camera,
+                                 tuned=not args.default_visuals, tension_scale=args.tension_scale)
+        with terminate_as_exit():  # the half-written video is removed on SIGTERM too
+            v = replay(args.scenario, args.output, settings, duration=args.duration, overwrite=args.overwrite)
+    except (ReplayError, ValueError, RenderUnavailable) as exc:
+        print(f"mjtether render: {exc}", file=sys.stderr)
+        return 2 if isinstance(exc, ValueError) else 1
+    except KeyboardInterrupt:
+        print("mjtether render: interrupted; no video written", file=sys.stderr)
+        return 130
+    note = "" if v["smooth"] else (f"; it holds each of the {v['samples']} samples {v['output_interval_s']:g} s "
+                                   "apart (simulation.output_interval) for a smooth replay run with it at 1/fps")
+    print(f"{v['frames']} frames ({v['simulated_s']:.1f} s at {v['fps']:g} fps, camera {v['camera']}) replayed from "
+          f"{args.scenario} in {v['wall_time_s']:.1f} s; tension colours 0-{v['tension_scale_N']:g} N; wrote "
+          f"{v['file']}{note}")
     return 0
 
 
