@@ -44,8 +44,10 @@ def load_scenario(path=None, *, text: str | None = None, data: dict | None = Non
         try:
             key = _override(raw, item)
         except ConfigError as exc:
-            raise ScenarioError(f"{label}: {_after(str(exc), f'--set {item}: ', f'--set {_key_of(item)}: ')}",
-                                exc.key) from None
+            if "=" not in str(item):  # (not KEY=VALUE: the message shows the item as given)
+                raise
+            msg = _after(str(exc), f"--set {item}: ", f"--set {item!r}: ", f"--set {_key_of(item)}: ")
+            raise ScenarioError(f"{label}: {msg}", exc.key) from None
         labels[key] = label
     try:
         return build(Scenario, raw, name)
