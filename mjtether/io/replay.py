@@ -17,7 +17,6 @@ from __future__ import annotations
 
 import csv
 import json
-import math
 from pathlib import Path
 
 import mujoco
@@ -247,8 +246,8 @@ def replay(folder, path, settings, duration: float | None = None, overwrite: boo
     finally:
         rep.close()
     samples = int(np.searchsorted(saved.time, shown + 1e-9))
+    interval = saved.sc.simulation.output_interval
     return {"file": str(rec.path), "frames": rec.frames, "fps": settings.fps, "camera": settings.camera,
             "tension_scale_N": scale, "simulated_s": shown, "samples": samples,
-            "wall_time_s": time.perf_counter() - t0, "output_interval_s": saved.sc.simulation.output_interval,
-            "smooth": saved.sc.simulation.output_interval <= 1.0 / settings.fps * (1 + 1e-9) or math.isclose(
-                saved.sc.simulation.output_interval, 1.0 / settings.fps)}
+            "wall_time_s": time.perf_counter() - t0, "output_interval_s": interval,
+            "smooth": interval <= (1.0 + 1e-9) / settings.fps}

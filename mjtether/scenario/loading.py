@@ -75,11 +75,11 @@ def _blame(key: str, labels: dict) -> str | None:
     key below it that an override set; None where no override did (the file's mistake)."""
     if not key:
         return None
-    norm = {(k[:-3] if k.endswith("_kn") else k): v for k, v in labels.items()}
+    norm = {k.removesuffix("_kn"): v for k, v in labels.items()}
     if key in norm:
         return norm[key]
     for k, v in reversed(list(norm.items())):  # the last override of a section or a key in it
-        if k.startswith(key + ".") or key.startswith(k + ".") or k.startswith(key + "["):
+        if k.startswith((key + ".", key + "[")) or key.startswith(k + "."):
             return v
     return None
 

@@ -208,8 +208,9 @@ class ScenarioRun:
             winch = WinchDrive(self.winch) if self.tethered else None
             ship = self.ship if self.ship_pilot is None else self.ship_pilot
             self.controllers = [c for c in (self.gait_drive, self.pilot, ship, winch) if c is not None]
-            if self.tethered and not empty and not replay:  # (alone, or on an empty drum, a vehicle starts as placed: there
-                start.preroll(self, settle or drape, until_still=drape)   # are no contacts to load)
+            # (alone, or on an empty drum, a vehicle starts as placed: there are no contacts to load)
+            if self.tethered and not empty and not replay:
+                start.preroll(self, settle or drape, until_still=drape)
         except BaseException:
             self.sim.close()  # a run that cannot start leaves nothing registered
             raise
