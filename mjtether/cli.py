@@ -3,7 +3,9 @@
 from __future__ import annotations
 
 import argparse
+import contextlib
 import sys
+import warnings
 from pathlib import Path
 
 from mjtether import _checks, demo
@@ -36,8 +38,10 @@ def main(argv=None) -> int:
     run_cmd.add_argument("--video", nargs="?", const="video.mp4", metavar="NAME",
                          help="also render a video into the results folder (default name video.mp4; .mp4 or .gif)")
     _video_options(run_cmd)
-    render_cmd = sub.add_parser("render", help="render a scenario run to a video file (no display needed)")
-    render_cmd.add_argument("scenario", nargs="?", help="scenario TOML file or MoorDyn v2 input file (default: the built-in scenario)")
+    render_cmd = sub.add_parser("render", help="render a scenario run to a video file (no display needed), or "
+                                "replay a results folder of `mjtether run` without simulating again")
+    render_cmd.add_argument("scenario", nargs="?", help="scenario TOML file or MoorDyn v2 input file (default: the "
+                            "built-in scenario), or a results folder to replay (mjtether run --out DIR)")
     _set_option(render_cmd)
     render_cmd.add_argument("-o", "--output", default="run.mp4", help="video file, .mp4 (H.264) or .gif (default run.mp4)")
     render_cmd.add_argument("--duration", type=float, help="simulated seconds to render (default: the scenario's)")
@@ -67,6 +71,39 @@ def main(argv=None) -> int:
     sweep_cmd.add_argument("--restart", action="store_true",
                            help="run every case again, discarding those an interrupted sweep into DIR finished")
     args = ap.parse_args(argv)
+    with _plain_warnings(f"mjtether {args.command}"):
+        return _dispatch(args)
+
+
+@contextlib.contextmanager
+def _plain_warnings(prefix: str):
+    """Warnings of MuJoCo (``MujocoWarning``) and of mjtether's own kinds shown as one plain line,
+    ``prefix: warning: ...``, without Python's source line and file path, and above the progress bar
+    rather than glued to it (others, e.g. numpy's, as Python shows them)."""
+    from tqdm import tqdm
+
+    from mjtether.io.mjlog import MujocoWarning
+
+    shown = warnings.showwarning
+
+    def show(message, category, filename, lineno, file=None, line=None):
+        if not (issubclass(category, MujocoWarning) or category.__module__.split(".")[0] == "mjtether"):
+            return shown(message, category, filename, lineno, file, line)
+        who = "MuJoCo warning" if issubclass(category, MujocoWarning) else "warning"
+        text = " ".join(str(message).split())
+        try:
+            tqdm.write(f"{prefix}: {who}: {text}", file=file or sys.stderr)
+        except (OSError, ValueError):  # (as Python does: a closed or broken stderr loses the warning)
+            pass
+
+    warnings.showwarning = show
+    try:
+        yield
+    finally:
+        warnings.showwarning = shown
+
+
+def _dispatch(args) -> int:
     if args.command == "run":
         return _run(args)
     if args.command == "solve":
@@ -280,7 +317,10 @@ def _run_network(args, net) -> int:
 
 
 def _render(args) -> int:
-    sets = args.set + ([f"simulation.duration={args.duration!r}"] if args.duration is not None else [])
+    if args.scenario and Path(args.scenario).is_dir():
+        return _replay(args)
+    sets = args.set + ([(f"simulation.duration={args.duration!r}", f"--duration {args.duration:g}")]
+                       if args.duration is not None else [])
     sc = _load(args.scenario, sets)
     if sc is None:
         return 2
@@ -302,6 +342,35 @@ def _render(args) -> int:
     colours = f"tension colours 0-{v['tension_scale_N']:g} N" if info["tethered"] else "no tether"
     print(f"{v['frames']} frames ({info['simulated_s']:.1f} s at {v['fps']:g} fps, camera {v['camera']}) in "
           f"{info['wall_time_s']:.1f} s; {colours}; wrote {v['file']}")
+    return 0
+
+
+def _replay(args) -> int:
+    """``mjtether render DIR``: the results folder DIR replayed from its saved states
+    (``mjtether.io.replay``), nothing simulated."""
+    from mjtether.io.render import RenderUnavailable, VideoSettings
+    from mjtether.io.replay import ReplayError, replay
+
+    if args.set:
+        print(f"mjtether render: --set {args.set[0]}: a results folder is replayed as it was run; --set applies to "
+              "a scenario file", file=sys.stderr)
+        return 2
+    try:
+        settings = VideoSettings(width=args.width, height=args.height, fps=args.fps, camera=args.camera,
+                                 tuned=not args.default_visuals, tension_scale=args.tension_scale)
+        with terminate_as_exit():  # the half-written video is removed on SIGTERM too
+            v = replay(args.scenario, args.output, settings, duration=args.duration, overwrite=args.overwrite)
+    except (ReplayError, ValueError, RenderUnavailable) as exc:
+        print(f"mjtether render: {exc}", file=sys.stderr)
+        return 2 if isinstance(exc, ValueError) else 1
+    except KeyboardInterrupt:
+        print("mjtether render: interrupted; no video written", file=sys.stderr)
+        return 130
+    note = "" if v["smooth"] else (f"; it holds each of the {v['samples']} samples {v['output_interval_s']:g} s "
+                                   "apart (simulation.output_interval) for a smooth replay run with it at 1/fps")
+    print(f"{v['frames']} frames ({v['simulated_s']:.1f} s at {v['fps']:g} fps, camera {v['camera']}) replayed from "
+          f"{args.scenario} in {v['wall_time_s']:.1f} s; tension colours 0-{v['tension_scale_N']:g} N; wrote "
+          f"{v['file']}{note}")
     return 0
 
 
@@ -379,10 +448,10 @@ def _solve(args) -> int:
         print(f"mjtether solve: {exc}", file=sys.stderr)
         return 2
     except RunFailed as exc:
-        print(f"mjtether solve: {exc}", file=sys.stderr)
+        print(f"mjtether solve: {_no_steady_state(exc.reason) if exc.reason else exc}", file=sys.stderr)
         return 1
     try:
-        ss = r.initial
+        ss = r.initial if r.initial is not None else r.steady_state  # (solved, even where the run settles)
         if not r.tethered:
             print("no tether (tether.attached = false): nothing to solve; the vehicle runs alone, starting level "
                   "and at rest")
@@ -392,7 +461,7 @@ def _solve(args) -> int:
                   "cable out; its steady state is the empty one")
             return 0
         if ss is None:
-            print(f"mjtether solve: no steady state: {r.initial_note}", file=sys.stderr)
+            print(f"mjtether solve: {_no_steady_state(r.steady_note)}", file=sys.stderr)
             return 1
         np.set_printoptions(precision=1, suppress=True)
         print(f"steady state of {r.tether_spec.length:g} m of tether ({r.tether_spec.segments} elements):")
@@ -403,6 +472,10 @@ def _solve(args) -> int:
     finally:
         r.close()
     return 0
+
+
+def _no_steady_state(note: str) -> str:
+    return note if note.startswith("no steady state") else f"no steady state: {note}"
 
 
 def _print_khan(r) -> None:

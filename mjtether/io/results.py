@@ -13,7 +13,10 @@ Files (all SI units; ``docs/scenarios.md`` lists the CSV columns):
   each element's constraint in N (>= 0: a cable cannot push, so any is the model's error, kept
   out of ``tension`` and shown here and in ``max_compression``). The e elements allocated are
   numbered from the drum's core to the robot end, so element j is the same piece of cable all
-  run; those still on the drum have length and tension 0, their nodes sit at the fairlead;
+  run; those still on the drum have length and tension 0, their nodes sit at the fairlead; and
+  the MuJoCo state that places every body (ship, robot, nodes) at each sample, ``qpos`` (n, nq),
+  ``mocap_pos`` (n, nmocap, 3) m and ``mocap_quat`` (n, nmocap, 4), which ``mjtether render DIR``
+  sets again to replay the run (``mjtether.io.replay``);
 * ``summary.json``: the scenario as read (defaults filled in), final and peak tensions, wall time,
   real-time factor, how the run was started;
 * ``tension.png`` (tensions at the ship end and the tow point, deployed length), ``profile.png``
@@ -42,7 +45,7 @@ import numpy as np
 from mjtether.cable.builder import seabed_height
 from mjtether.physics.water import WaterColumn
 from mjtether.scenario.readouts import TETHER_FIELDS, VEHICLE_FIELDS
-from mjtether.scenario.runner import RECORD_FIELDS
+from mjtether.scenario.runner import RECORD_FIELDS, STATE_FIELDS
 
 from .outdir import Staging, check_target
 
@@ -129,8 +132,10 @@ def write(out, sc: dict, rows: np.ndarray, history: dict, info: dict, scenario_p
             for r in rows:
                 w.writerow([f"{v:.9g}" for v in r[keep]])
         if tethered:
+            state = {k: history[k] for k in STATE_FIELDS if k in history}  # (what ``mjtether render DIR`` sets)
             np.savez_compressed(tmp / "tether.npz", time=rows[:, 0], nodes=nodes, tension=history["tension"],
-                                element_length=history["element_length"], compression=history["compression"])
+                                element_length=history["element_length"], compression=history["compression"],
+                                **state)
         (tmp / "summary.json").write_text(json.dumps(summary(sc, rows, info, scenario_path), indent=2))
         if plots:
             _plots(tmp, rows, nodes, sc, tethered)

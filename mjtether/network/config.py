@@ -378,6 +378,7 @@ def with_overrides(net: Network, overrides=()) -> Network:
     applied and checked."""
     changes = {}
     for item in overrides:
+        item = item[0] if isinstance(item, tuple) else item  # (key=value, the label load_scenario blames)
         key, eq, val = str(item).partition("=")
         key = key.strip()
         sec, _, field_ = key.partition(".")

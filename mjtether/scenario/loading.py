@@ -18,9 +18,11 @@ def load_scenario(path=None, *, text: str | None = None, data: dict | None = Non
     ``"default_walker"``: ``mjtether.io.packagedata.shipped_example``), TOML ``text`` or ``data`` (the nested
     dict TOML would give); with none of them, the defaults. ``overrides``: ``"key.path=value"``
     strings (values in TOML syntax; a bare word is a string), applied before checking, as
-    ``mjtether run --set`` does. ``name`` labels errors (default: the file name). A relative
-    ``water.bathymetry`` in a file is taken beside the file; one given in ``overrides``, from the
-    working folder."""
+    ``mjtether run --set`` does; an item may also be a pair (``"key.path=value"``, the label to
+    blame, e.g. ``"--duration 5"``). ``name`` labels errors (default: the file name); an error in
+    a key an override set names the override instead (``--set tether.length=abc: ...``). A
+    relative ``water.bathymetry`` in a file is taken beside the file; one given in ``overrides``,
+    from the working folder."""
     if path is not None and text is None and data is None:
         from mjtether.io.packagedata import shipped_example
         path = shipped_example(path) or path  # (a shipped example by name: "default_walker")
@@ -36,9 +38,50 @@ def load_scenario(path=None, *, text: str | None = None, data: dict | None = Non
     if path is not None and isinstance(water, dict) and isinstance(water.get("bathymetry"), str) \
             and water["bathymetry"] and not Path(water["bathymetry"]).is_absolute():
         water["bathymetry"] = str(Path(path).resolve().parent / water["bathymetry"])  # (beside the scenario)
+    labels = {}  # {key path: what set it} for the overrides
     for item in overrides:
-        _override(raw, item)
-    return build(Scenario, raw, name)
+        item, label = item if isinstance(item, tuple) else (item, f"--set {item}")
+        try:
+            key = _override(raw, item)
+        except ConfigError as exc:
+            if "=" not in str(item):  # (not KEY=VALUE: the message shows the item as given)
+                raise
+            msg = _after(str(exc), f"--set {item}: ", f"--set {item!r}: ", f"--set {_key_of(item)}: ")
+            raise ScenarioError(f"{label}: {msg}", exc.key) from None
+        labels[key] = label
+    try:
+        return build(Scenario, raw, name)
+    except ConfigError as exc:
+        label = _blame(exc.key, labels)
+        if label is None:
+            raise
+        raise ScenarioError(f"{label}: {_after(str(exc), f'{name}: ')}", exc.key) from None
+
+
+def _key_of(item: str) -> str:
+    return str(item).partition("=")[0].strip()
+
+
+def _after(msg: str, *prefixes: str) -> str:
+    """``msg`` without the first of ``prefixes`` it starts with."""
+    for p in prefixes:
+        if msg.startswith(p):
+            return msg[len(p):]
+    return msg
+
+
+def _blame(key: str, labels: dict) -> str | None:
+    """The label of the override that set ``key`` (an error's key path), or of a section or a
+    key below it that an override set; None where no override did (the file's mistake)."""
+    if not key:
+        return None
+    norm = {k.removesuffix("_kn"): v for k, v in labels.items()}
+    if key in norm:
+        return norm[key]
+    for k, v in reversed(list(norm.items())):  # the last override of a section or a key in it
+        if k.startswith((key + ".", key + "[")) or key.startswith(k + "."):
+            return v
+    return None
 
 
 def _read(name: str, path) -> str:
@@ -72,9 +115,9 @@ def _copy_tree(d):
     return {k: _copy_tree(v) for k, v in d.items()} if isinstance(d, dict) else d
 
 
-def _override(raw: dict, item: str) -> None:
+def _override(raw: dict, item: str) -> str:
     """Apply one ``key.path=value`` to the raw tree (the key is checked when the tree is built;
-    sections must exist in the schema)."""
+    sections must exist in the schema); returns the key path."""
     key, sep, value = str(item).partition("=")
     key = key.strip()
     if not sep or not key or any(not p.strip() for p in key.split(".")):
@@ -110,6 +153,7 @@ def _override(raw: dict, item: str) -> None:
             raise ScenarioError(f"--set {key}: {'.'.join(sections[:i + 1])} is not a section", key)
         node = nxt
     node[leaf] = v
+    return ".".join([*sections, leaf])
 
 
 def to_toml(sc: Scenario) -> str:

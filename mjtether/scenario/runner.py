@@ -50,20 +50,33 @@ def manoeuvre_from(robot, vs) -> Manoeuvre | None:
                      robot.spiral_step_s, turn_sign=math.copysign(1.0, yaw))
 
 
+STATE_FIELDS = ("qpos", "mocap_pos", "mocap_quat")
+"""``ScenarioRun.state``'s arrays, by the names ``run``'s history and ``tether.npz`` give them."""
+
+
 class EAWarning(UserWarning):
     """The cable runs softer than its EA at the scenario's time step (``ScenarioRun._check_EA``)."""
 
 
 class RunFailed(RuntimeError):
-    """The run stopped: divergence, or the tether's rated load was exceeded."""
+    """The run stopped: divergence, or the tether's rated load was exceeded; or it could not
+    start (``reason``: why there is no steady state to start from, else None)."""
+
+    def __init__(self, message: str, reason: str | None = None):
+        super().__init__(message)
+        self.reason = reason
 
 
 class ScenarioRun:
     """A compiled scenario, ready to step: ``step()`` advances one time step (the controllers,
     then the physics); ``named`` holds its readouts; ``record()`` returns one row of
-    ``RECORD_FIELDS``."""
+    ``RECORD_FIELDS``.
 
-    def __init__(self, sc: Scenario):
+    ``replay``: the scene built only, to show states saved by a run (``mjtether.io.replay``):
+    nothing is stepped or solved (no walker stand, no steady state, no pre-roll); the tether
+    starts in ``start.fallback_nodes``'s shape, and the state is the caller's to set."""
+
+    def __init__(self, sc: Scenario, replay: bool = False):
         self.sc = sc
         self.scene = scene = build_scene(sc)
         self.water, self.tether_spec, self.makeup = scene.water, scene.tether_spec, scene.makeup
@@ -77,9 +90,13 @@ class ScenarioRun:
             commands = np.array(r.commands, dtype=float)  # (s, m/s, rad/s)
             commands[:, 2] = np.radians(commands[:, 2])
             self.gait_drive = GaitDrive(commands, r.gait_period, scene.heading)
-            # the walker stands on the seabed first, alone; the tether's steady state is solved to
-            # its tow point standing, and the run starts with the walker in that pose
-            self.stand_pose, self.stand_ctrl, robot = start.stand_walker(scene, self.gait_drive.gait, dt)
+            if replay:  # (about where it stands: the replay puts it where it was)
+                self.stand_pose, self.stand_ctrl = {}, {}
+                robot = np.array([*r.start, float(scene.seabed_z(*r.start)) + 1.0])
+            else:
+                # the walker stands on the seabed first, alone; the tether's steady state is solved to
+                # its tow point standing, and the run starts with the walker in that pose
+                self.stand_pose, self.stand_ctrl, robot = start.stand_walker(scene, self.gait_drive.gait, dt)
             end = builder.SitePoint("walker/tow_point")
         elif self.is_vehicle:  # the tether is solved to its tow point at the start
             robot = vehicle_tow_point(scene)
@@ -91,15 +108,19 @@ class ScenarioRun:
         self.tethered = sc.tether.attached
         top = scene.fairlead_start()
         empty = self.tethered and sc.winch.start_empty
-        if empty:
+        if replay:
+            self.initial, self.initial_note = None, "replayed from saved states"
+        elif empty:
             start.check_at_fairlead(top, robot, sc.robot.position)
             self.initial, self.initial_note = None, "nothing deployed: the vehicle starts at the fairlead"
         elif self.tethered:
             self.initial, self.initial_note = start.steady_start(scene, top, robot, dt)
         else:
             self.initial, self.initial_note = None, "no tether: the vehicle runs alone, level and at rest"
+        # the quasi-static steady state and its note (why there is none), before a settling start replaces them
+        self.steady_state, self.steady_note = self.initial, self.initial_note
         how = sc.simulation.start
-        if not self.tethered or empty:
+        if not self.tethered or empty or replay:
             settle = False
         elif how == "settle" or (how == "auto" and self.initial is None):
             settle, self.initial = True, None
@@ -107,12 +128,14 @@ class ScenarioRun:
             self.initial_note = f"settled with the robot {held}" + (
                 "" if how == "settle" else f" (no steady state: {self.initial_note})")
         elif self.initial is None:
-            raise RunFailed(f"no consistent start: {self.initial_note}; set simulation.start = \"settle\" to let "
-                            "the cable fall into place while the robot is held")
+            settle_hint = "" if self.initial_note.startswith("tether.length") else (
+                "; set simulation.start = \"settle\" to let the cable fall into place while the robot is held")
+            raise RunFailed(f"no consistent start: {self.initial_note}{settle_hint}", reason=self.initial_note)
         else:
             settle = False
         # a steady state solved on a level seabed, lying above a sloped or gridded one, falls onto it
-        drape = self.tethered and not empty and not settle and start.floats_over_seabed(scene, self.initial.nodes)
+        drape = self.tethered and not empty and not settle and not replay and \
+            start.floats_over_seabed(scene, self.initial.nodes)
         if drape:
             self.initial_note += (" on a level seabed at the tow point's depth, then settled onto the seabed with "
                                   "the robot held")
@@ -125,7 +148,7 @@ class ScenarioRun:
             if empty:  # every node at the fairlead; set_length(0) below stows them on the drum
                 nodes = np.tile(top, (self.line.segments + 1, 1))
             else:
-                nodes = start.fallback_nodes(scene, top, robot) if settle else self.initial.nodes
+                nodes = start.fallback_nodes(scene, top, robot) if settle or replay else self.initial.nodes
             self.tm = builder.add_tether(spec, self.line, builder.SitePoint("ship/fairlead"), end,
                                          water=self.water, nodes=nodes, seabed_friction=sc.tether.seabed_friction,
                                          seabed_stiffness=sc.water.seabed_stiffness or None,
@@ -169,7 +192,10 @@ class ScenarioRun:
             if self.initial is not None and not drape:  # the steady state's seabed friction, carried into the run
                 self.sim.tether().preload_friction(self.sim.data, self.initial.tension)
             self.bt = self.sim.tether() if self.tethered else None
-            self.effective_EA = self._check_EA() if self.tethered else None
+            with warnings.catch_warnings():
+                if replay:  # (the run warned already)
+                    warnings.simplefilter("ignore", EAWarning)
+                self.effective_EA = self._check_EA() if self.tethered else None
             if empty:
                 self.bt.set_length(0.0, rate=0.0)
                 self.winch.length = 0.0
@@ -182,8 +208,9 @@ class ScenarioRun:
             winch = WinchDrive(self.winch) if self.tethered else None
             ship = self.ship if self.ship_pilot is None else self.ship_pilot
             self.controllers = [c for c in (self.gait_drive, self.pilot, ship, winch) if c is not None]
-            if self.tethered and not empty:  # (alone, or on an empty drum, a vehicle starts as placed: there
-                start.preroll(self, settle or drape, until_still=drape)   # are no contacts to load)
+            # (alone, or on an empty drum, a vehicle starts as placed: there are no contacts to load)
+            if self.tethered and not empty and not replay:
+                start.preroll(self, settle or drape, until_still=drape)
         except BaseException:
             self.sim.close()  # a run that cannot start leaves nothing registered
             raise
@@ -310,6 +337,12 @@ class ScenarioRun:
         n = self.named
         return n.element_nodes, n.element_tension, n.element_length, n.element_compression
 
+    def state(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The MuJoCo state that places every body (``STATE_FIELDS``): ``qpos`` (nq,), ``mocap_pos``
+        (nmocap, 3) m and ``mocap_quat`` (nmocap, 4), copies; what ``mjtether.io.replay`` sets again."""
+        d = self.sim.data
+        return d.qpos.copy(), d.mocap_pos.copy(), d.mocap_quat.copy()
+
     def close(self) -> None:
         self.sim.close()
 
@@ -390,7 +423,8 @@ def run(sc: Scenario, progress=None, keep_nodes: bool = True, video=None, on_sta
     """Simulate ``sc``; returns (rows (n, len(RECORD_FIELDS)), history, info). ``history`` has
     ``nodes`` (n, e+1, 3) m, ``tension`` (n, e) N and ``element_length`` (n, e) m for every one
     of the e elements allocated (numbered from the drum's core; see ``element_record``), each
-    sample (only the first with ``keep_nodes=False``).
+    sample (only the first with ``keep_nodes=False``), and ``qpos``, ``mocap_pos`` and ``mocap_quat``
+    (``ScenarioRun.state``) at the same samples.
     ``progress(k, n)`` is called as it goes. ``video(runner)`` makes a ``render.VideoRecorder``
     for the built run; frames are then taken as they fall due and the file is finished, or
     deleted if the run fails. ``on_start(runner)`` is called once the run is built and started,
@@ -399,7 +433,7 @@ def run(sc: Scenario, progress=None, keep_nodes: bool = True, video=None, on_sta
     dt = sc.simulation.timestep
     n_steps = int(round(sc.simulation.duration / dt))
     every = max(1, int(round(sc.simulation.output_interval / dt)))
-    rows, hist = [], []
+    rows, hist, states = [], [], []
     t0 = time.perf_counter()
     runner = ScenarioRun(sc)
     rec = None
@@ -409,6 +443,7 @@ def run(sc: Scenario, progress=None, keep_nodes: bool = True, video=None, on_sta
         rec = video(runner) if video is not None else None
         rows.append(runner.record())
         hist.append(runner.element_record())
+        states.append(runner.state())
         monitor = TangleMonitor(sc.tangle) if runner.tethered else None
         if monitor is not None:
             monitor.check(runner)
@@ -425,6 +460,7 @@ def run(sc: Scenario, progress=None, keep_nodes: bool = True, video=None, on_sta
                 rows.append(runner.record())
                 if keep_nodes:
                     hist.append(runner.element_record())
+                    states.append(runner.state())
                 stop = monitor is not None and monitor.check(runner)
                 stop = (surface is not None and surface.check(runner)) or stop
             if rec is not None and rec.due(runner.sim.time):
@@ -465,4 +501,6 @@ def run(sc: Scenario, progress=None, keep_nodes: bool = True, video=None, on_sta
                          "tension_scale_N": rec.scale}
     history = {"nodes": np.array([h[0] for h in hist]), "tension": np.array([h[1] for h in hist]),
                "element_length": np.array([h[2] for h in hist]), "compression": np.array([h[3] for h in hist])}
+    for k, key in enumerate(STATE_FIELDS):
+        history[key] = np.array([st[k] for st in states])
     return rows, history, info

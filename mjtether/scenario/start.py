@@ -197,8 +197,9 @@ def steady_start(scene: Scene, top, robot, dt: float):
     L = scene.line.length
     reach = float(np.linalg.norm(robot - top))
     if scene.makeup is None and scene.tether_spec.EA is None and reach >= L:
-        return None, (f"no steady state (an inextensible tether of {L:g} m cannot reach from the ship to the "
-                      f"robot, {reach:.2f} m away)")
+        return None, (f"tether.length = {L:g} m: too short for its ends: the ship's fairlead and the robot's tow "
+                      f"point are {reach:.2f} m apart and the tether is inextensible (tether.EA = 0); give "
+                      f"tether.length > {reach:.2f} m or tether.EA > 0, or move the robot or the ship closer")
     if rise >= 0.5 * L:
         return None, f"no steady state (the tow point is {rise:.2f} m above the seabed, the tether {L:g} m long)"
     ss, note = _solve_start(scene, water, top, foot, dt, length=L - rise)

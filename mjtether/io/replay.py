@@ -1,0 +1,253 @@
+"""Replaying a results folder (``mjtether run SCENARIO --out DIR``) to a video without simulating
+again: ``mjtether render DIR``.
+
+The scene is rebuilt from the scenario saved in ``summary.json`` (``ScenarioRun(sc,
+replay=True)``: nothing is stepped or solved), and each frame sets the state the run saved at
+the sample on or after the frame's time (as a live video takes the first step on or after it):
+the bodies' ``qpos`` and mocap poses and the tether's nodes from ``tether.npz``; the overlay's
+time, tensions, deployed length and speed are the run's own (``timeseries.csv``), and the
+tether is coloured by its saved tensions. Between two samples the picture holds still: a smooth
+replay needs ``simulation.output_interval`` at or below 1 / fps.
+
+A folder that is not a complete results folder is refused (``ReplayError``) with one line saying
+what is missing.
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+from pathlib import Path
+
+import mujoco
+import numpy as np
+
+from mjtether.scenario import ScenarioError, load_scenario
+from mjtether.scenario.runner import RECORD_FIELDS, STATE_FIELDS, ScenarioRun
+
+from .outdir import MANIFEST
+from .results import written
+
+COLUMN = {name: i for i, (name, _, _) in enumerate(RECORD_FIELDS)}
+
+
+class ReplayError(ValueError):
+    """The folder cannot be replayed (the message says why, in one line)."""
+
+
+def _restore(x):
+    """``summary.json``'s scenario back to what ``load_scenario(data=...)`` takes: the
+    non-finite numbers it stores as text ("inf") as numbers, keys without a value left out."""
+    if isinstance(x, dict):
+        return {k: _restore(v) for k, v in x.items() if v is not None}
+    if isinstance(x, list):
+        return [_restore(v) for v in x]
+    if isinstance(x, str) and x in ("inf", "-inf", "nan"):
+        return float(x)
+    return x
+
+
+class Saved:
+    """A results folder, read and checked: ``sc`` (the scenario as the run read it), ``rows``
+    (the record, ``RECORD_FIELDS`` columns; those a run does not write are NaN), ``time``,
+    ``nodes``, ``tension``, ``element_length`` and the state (``STATE_FIELDS``) per sample, and
+    ``simulated_s``."""
+
+    def __init__(self, folder):
+        self.folder = d = Path(folder)
+        where = str(folder)
+        if not d.is_dir():
+            raise ReplayError(f"{where}: no such results folder")
+        if not (d / "summary.json").is_file():
+            raise ReplayError(f"{where}: not a results folder: no summary.json (give a folder that `mjtether run "
+                              "SCENARIO --out DIR` wrote, or a scenario file)")
+        if not (d / MANIFEST).is_file():
+            raise ReplayError(f"{where}: an incomplete results folder: no {MANIFEST} (the run did not finish; run "
+                              "the scenario again)")
+        try:
+            summary = json.loads((d / "summary.json").read_text())
+            run = summary["run"]
+            raw = summary["scenario"]
+            self.simulated_s = float(run["simulated_s"])
+        except (OSError, ValueError, KeyError, TypeError) as exc:
+            raise ReplayError(f"{where}/summary.json: unreadable ({exc.__class__.__name__}: {exc})") from None
+        self.tethered, self.vehicle = bool(run.get("tethered", True)), bool(run.get("vehicle", True))
+        if not self.tethered:
+            raise ReplayError(f"{where}: a run without a tether (tether.attached = false) has no tether.npz; its "
+                              "replay is not supported yet: render the scenario file instead")
+        try:
+            self.sc = load_scenario(data=_restore(raw), name=f"{where}/summary.json")
+        except ScenarioError as exc:
+            raise ReplayError(f"cannot rebuild the scenario: {exc}") from None
+        for name in ("timeseries.csv", "tether.npz"):
+            if not (d / name).is_file():
+                raise ReplayError(f"{where}: an incomplete results folder: no {name}")
+        try:
+            with np.load(d / "tether.npz") as z:
+                missing = [k for k in STATE_FIELDS if k not in z.files]
+                if missing:
+                    raise ReplayError(f"{where}/tether.npz: holds no {', '.join(missing)} (written by an mjtether "
+                                      "that did not save the states a replay sets): run the scenario again")
+                for k in ("time", "nodes", "tension", "element_length", *STATE_FIELDS):
+                    setattr(self, k, z[k])
+            self.rows = self._read_rows(d / "timeseries.csv")
+        except (OSError, ValueError, KeyError) as exc:
+            if isinstance(exc, ReplayError):
+                raise
+            raise ReplayError(f"{where}: unreadable results ({exc.__class__.__name__}: {exc})") from None
+        n = len(self.time)
+        if n == 0 or len(self.rows) != n or any(len(getattr(self, k)) != n for k in ("nodes", *STATE_FIELDS)):
+            raise ReplayError(f"{where}: tether.npz and timeseries.csv disagree on the samples ({n} and "
+                              f"{len(self.rows)}; a run with every sample kept has one per "
+                              "simulation.output_interval in both)")
+
+    def _read_rows(self, path: Path) -> np.ndarray:
+        with open(path, newline="") as fh:
+            table = [r for r in csv.reader(fh)][1:]
+        keep = written(self.tethered, self.vehicle)
+        rows = np.full((len(table), len(RECORD_FIELDS)), np.nan)
+        if table and len(table[0]) != len(keep):
+            raise ValueError(f"timeseries.csv has {len(table[0])} columns, not {len(keep)}")
+        for i, r in enumerate(table):
+            rows[i, keep] = [float(v) for v in r]
+        return rows
+
+    def sample_at(self, t: float) -> int:
+        """The first sample on or after time ``t`` (s), the last if none."""
+        return min(int(np.searchsorted(self.time, t - 1e-9)), len(self.time) - 1)
+
+
+class _SavedReadouts:
+    """The named readouts the renderer reads, from the saved sample ``k`` where the run saved
+    them; the rest (the robot's place and heading, the vehicles' hulls) from the state set."""
+
+    def __init__(self, live, saved: Saved):
+        self._live, self._saved, self.k = live, saved, 0
+
+    def __getattr__(self, name):
+        return getattr(self._live, name)
+
+    def _row(self, name: str) -> float:
+        return float(self._saved.rows[self.k, COLUMN[name]])
+
+    @property
+    def time(self) -> float:
+        return float(self._saved.time[self.k])
+
+    @property
+    def ship_tension(self) -> float:
+        return self._row("ship_tension")
+
+    @property
+    def tow_tension(self) -> float:
+        return self._row("tow_tension")
+
+    @property
+    def deployed_length(self) -> float:
+        return self._row("deployed_length")
+
+    @property
+    def robot_speed(self) -> float:
+        return self._row("robot_speed")
+
+    def _first(self) -> int:
+        """The first deployed element: those on the drum have length 0."""
+        on = self._saved.element_length[self.k] > 0.0
+        return int(np.argmax(on)) if on.any() else 0
+
+    @property
+    def tether_nodes(self) -> np.ndarray:
+        return self._saved.nodes[self.k, self._first():].copy()
+
+    @property
+    def tether_tension(self) -> np.ndarray:
+        return self._saved.tension[self.k, self._first():].copy()
+
+    def tangle(self, x=None) -> dict:
+        return self._live.tangle(self.tether_nodes if x is None else x)
+
+
+class Replay:
+    """What ``render.VideoRecorder`` draws (the parts of a ``ScenarioRun`` it reads), showing a
+    results folder's saved samples: ``show(k)`` sets sample ``k``. ``close()`` frees the model."""
+
+    def __init__(self, saved: Saved):
+        self.saved = saved
+        self.run = run = ScenarioRun(saved.sc, replay=True)
+        try:
+            m = run.sim.model
+            if saved.qpos.shape[1] != m.nq or saved.mocap_pos.shape[1] != m.nmocap:
+                raise ReplayError(f"{saved.folder}: the saved states do not fit the scene rebuilt from its scenario "
+                                  f"({saved.qpos.shape[1]} positions saved, {m.nq} in the model): written by another "
+                                  "version of mjtether? run the scenario again")
+            self.sc, self.sim, self.water, self.walker = run.sc, run.sim, run.water, run.walker
+            self.tethered, self.is_vehicle, self.scene = run.tethered, run.is_vehicle, run.scene
+            self.named = _SavedReadouts(run.named, saved)
+            # the tether's node bodies (three world slide joints each): their qpos is a displacement
+            # from the body's place in this model, set from the saved world positions of the nodes
+            bt = run.bt
+            bodies = [int(m.flex_vertbodyid[bt.layout.vertadr + i]) for i in range(bt.layout.n + 1)]
+            self._node_qpos = np.array([[m.jnt_qposadr[m.body_jntadr[b] + a] for a in range(3)] for b in bodies])
+            d = run.sim.data
+            d.qpos[self._node_qpos.ravel()] = 0.0
+            mujoco.mj_kinematics(m, d)
+            self._node_ref = d.xpos[bodies].copy()
+        except BaseException:
+            run.close()
+            raise
+        self.show(0)
+
+    @property
+    def contact_diameter(self) -> float:
+        return self.run.contact_diameter
+
+    def seabed_z(self, x, y):
+        return self.run.seabed_z(x, y)
+
+    def show(self, k: int) -> None:
+        """Set the saved sample ``k``: the bodies' state, the tether's nodes, the readouts."""
+        s, m, d = self.saved, self.sim.model, self.sim.data
+        d.qpos[:] = s.qpos[k]
+        d.mocap_pos[:] = s.mocap_pos[k]
+        d.mocap_quat[:] = s.mocap_quat[k]
+        d.qpos[self._node_qpos] = s.nodes[k] - self._node_ref
+        d.qvel[:] = 0.0
+        d.time = float(s.time[k])
+        mujoco.mj_forward(m, d)
+        self.named.k = k
+
+    def close(self) -> None:
+        self.run.close()
+
+
+def replay(folder, path, settings, duration: float | None = None, overwrite: bool = True) -> dict:
+    """Render the results folder ``folder`` to the video ``path`` (``render.VideoSettings``
+    ``settings``) for ``duration`` s (default: all the run simulated); returns what ``run``'s
+    info["video"] holds, with ``simulated_s``, ``samples`` and ``wall_time_s``. Raises
+    ``ReplayError`` (or ValueError for a bad video path)."""
+    import time
+
+    from .render import VideoRecorder, check_output_path
+
+    t0 = time.perf_counter()
+    check_output_path(path, overwrite=overwrite)
+    saved = Saved(folder)
+    if duration is not None and not (0.0 < duration <= saved.simulated_s + 1e-9):
+        raise ReplayError(f"--duration {duration:g}: must be in (0, {saved.simulated_s:g}] s, the time the saved "
+                          "run simulated")
+    shown = saved.simulated_s if duration is None else duration
+    rep = Replay(saved)
+    try:
+        with VideoRecorder(rep, path, settings, duration=shown) as rec:
+            for t in rec.times:
+                rep.show(saved.sample_at(t))
+                rec.capture()
+        scale = rec.scale
+    finally:
+        rep.close()
+    samples = int(np.searchsorted(saved.time, shown + 1e-9))
+    interval = saved.sc.simulation.output_interval
+    return {"file": str(rec.path), "frames": rec.frames, "fps": settings.fps, "camera": settings.camera,
+            "tension_scale_N": scale, "simulated_s": shown, "samples": samples,
+            "wall_time_s": time.perf_counter() - t0, "output_interval_s": interval,
+            "smooth": interval <= (1.0 + 1e-9) / settings.fps}
