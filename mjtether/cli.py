@@ -65,7 +65,7 @@ def main(argv=None) -> int:
     sweep_cmd.add_argument("--ray", nargs="?", const="", metavar="ADDRESS",
                            help="run the cases as Ray tasks (a new local Ray, or the cluster at ADDRESS)")
     sweep_cmd.add_argument("--out", required=True, metavar="DIR",
-                           help="results folder: cases.csv, cases.parquet, summary.png (an interrupted sweep "
+                           help="results folder: cases.csv, summary.png, cases.parquet with pyarrow (an interrupted sweep "
                                 "resumes when the same command is run again)")
     sweep_cmd.add_argument("--overwrite", action="store_true", help="replace DIR only if it holds an earlier sweep")
     sweep_cmd.add_argument("--restart", action="store_true",
