@@ -70,8 +70,8 @@ TOML = {  # name: (file body, what the one-line error must contain)
     "walker a million metres out": ('[robot]\ntype = "walker"\nstart = [1e6, 0.0]\n',  # (an OverflowError once)
                                     "tether.length = 300 m: too short for its ends"),
     "samples between steps": ("[simulation]\ntimestep = 0.005\noutput_interval = 0.0075\n",  # (was every 0.01 s)
-                              "simulation.output_interval = 0.0075: must be a whole number of simulation.timestep "
-                              "(0.005 s): 1.5 steps; give 0.005 or 0.01 s"),
+                              "simulation.output_interval = 0.0075: must be within 5 % of a whole number of "
+                              "simulation.timestep (0.005 s): it is 1.5 steps; give 0.005 or 0.01 s"),
     "not TOML": ("[tether\nlength = 3\n", "not valid TOML"),
 }
 
@@ -168,6 +168,24 @@ def test_a_tether_too_heavy_for_its_EA_names_the_keys(capsys):
     rc, err = _run_cli(["solve", "--set", "tether.mass_per_length=1e4"], capsys)
     assert rc == 1 and len(err) == 1, err
     for part in ("tether.mass_per_length = 10000 kg/m", "tether.EA = 5e+06 N would stretch by", "(at most 10 %)"):
+        assert part in err[0], err[0]
+
+
+@pytest.mark.parametrize("args, parts", [
+    (["solve", "--set", "tether.diameter=2"],
+     ("tether.diameter = 2 m", "above the walker's tow point", "diameter below 1.86 m")),
+    (["solve", "--set", "tether.density=1"],
+     ("tether.density = 1 kg/m^3", "4.93 N/m buoyant", 'simulation.start = "settle"')),
+    (["solve", "static_anchor_current", "--set", "tether.length=10000"],
+     ("robot.position is 40.00 m above the seabed", "tether.length = 10000 m is 9851.34 m more than the 148.66 m")),
+], ids=["a 2 m tether on the walker", "a buoyant tether", "10 km of tether to an anchor 149 m away"])
+def test_a_start_that_cannot_be_solved_names_the_keys(args, parts, capsys):
+    """Valid values for which the steady start has no answer: one line naming the keys that make
+    it so and what would do (they named none: "below the seabed", "Newton stalled", "rest on the
+    seabed between its two ends")."""
+    rc, err = _run_cli(args, capsys)
+    assert rc == 1 and len(err) == 1, err
+    for part in parts:
         assert part in err[0], err[0]
 
 

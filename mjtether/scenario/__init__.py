@@ -17,12 +17,12 @@ before.
 
 from .config import INF, RENAMED, ConfigError, Section, build, param, section, split_index, subsections, tables
 from .loading import load_scenario, to_toml
+from .cost import US_PER_STEP
 from .sections import (
     LINE_TYPES,
     MAX_LENGTH,
     MAX_SEGMENTS,
     MAX_TURN_DEG_S,
-    US_PER_STEP,
     WINCH_MODES,
     Current,
     Density,

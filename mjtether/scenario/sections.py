@@ -61,13 +61,20 @@ MAX_TURN_DEG_S = math.degrees(0.5)
 # ------------------------------------------------------------------ sections
 
 
+OUTPUT_ROUNDING = 0.05
+"""Samples are recorded every round(output_interval / timestep) steps (their times in the outputs
+are exact); an output_interval further than this fraction from a whole number of steps is
+refused, naming the two nearest (0.0075 s at a 0.005 s step would be recorded every 0.01 s)."""
+
+
 @dataclass(frozen=True)
 class Simulation(Section):
     PATH = "simulation"
     duration: float = param(120.0, 1e-3, 1e6, "s", "simulated time")
     timestep: float = param(0.005, 1e-5, 0.05, "s", "MuJoCo time step (see mjtether.cable.stability)")
-    output_interval: float = param(0.5, 1e-3, 1e4, "s", "time between recorded samples: a whole number of "
-                                   "simulation.timestep")
+    output_interval: float = param(0.5, 1e-3, 1e4, "s", "time between recorded samples, taken every "
+                                   "round(output_interval / timestep) steps; one more than 5 % from a whole number of "
+                                   "steps is refused")
     start: str = param("steady", doc="steady: from the quasi-static steady state, or stop with the reason if there "
                        "is none; settle: the cable falls into place from a guessed shape while the robot is held, "
                        "then the robot is released; auto: steady if it exists, else settle",
@@ -84,10 +91,10 @@ class Simulation(Section):
         if self.output_interval < self.timestep:
             self._bad("output_interval", f"must be >= simulation.timestep ({self.timestep:g} s)")
         k = self.output_interval / self.timestep
-        if abs(k - round(k)) > 1e-6 * k:  # (a sample is taken every round(k) steps)
+        if abs(k - round(k)) > OUTPUT_ROUNDING * k:  # (a sample is taken every round(k) steps)
             lo, hi = math.floor(k) * self.timestep, math.ceil(k) * self.timestep
-            self._bad("output_interval", f"must be a whole number of simulation.timestep ({self.timestep:g} s): "
-                      f"{k:.4g} steps; give {lo:.6g} or {hi:.6g} s")
+            self._bad("output_interval", f"must be within {100 * OUTPUT_ROUNDING:g} % of a whole number of "
+                      f"simulation.timestep ({self.timestep:g} s): it is {k:.4g} steps; give {lo:.6g} or {hi:.6g} s")
         if self.duration < self.timestep:
             self._bad("duration", f"must be at least one simulation.timestep ({self.timestep:g} s)")
 
@@ -564,12 +571,6 @@ RENAMED.update({
 
 # ------------------------------------------------------------------ the whole scenario
 
-US_PER_STEP = (300.0, 1.3, 50.0)
-"""Cost model of one step on one core (us): fixed, per allocated tether element, walker. Fitted
-to steps of 60 to 2000 allocated elements on this project's 2-core CI machine (MuJoCo 4.0;
-measured 390-2900 us, the model within about 30 %); it only has to tell minutes from days."""
-
-
 @dataclass(frozen=True)
 class Tangle(Section):
     PATH = "tangle"
@@ -687,18 +688,6 @@ class Scenario(Section):
                 f" give tether.length >= {(span - margin) / stretch:.1f} m or move the robot or ship closer")
 
     def estimate(self, max_length: float | None = None) -> dict:
-        """What the run will cost: ``steps``, ``samples``, ``elements`` allocated (deployed
-        plus those waiting on the drum), ``us_per_step`` and ``wall_hours`` on one core (the
-        ``US_PER_STEP`` model), ``output_gb`` of recorded history (node positions, element
-        tensions and lengths as float64)."""
-        t, s = self.tether, self.simulation
-        max_length = self.winch.max_length if max_length is None else max_length
-        l0 = t.length / t.segments
-        elements = max(t.segments, int(math.ceil(max_length / l0 - 0.5)) + 1)  # builder.drum_capacity
-        steps = s.duration / s.timestep
-        samples = s.duration / s.output_interval + 1
-        a, b, walker = US_PER_STEP
-        us = a + b * elements + (walker if self.robot.type == "walker" else 0.0)
-        per_sample = 8 * (3 * (elements + 1) + 2 * elements + 32)
-        return {"steps": steps, "samples": samples, "elements": elements, "us_per_step": us,
-                "wall_hours": steps * us * 1e-6 / 3600.0, "output_gb": samples * per_sample / 1e9}
+        """What the run will cost (``cost.estimate``)."""
+        from .cost import estimate
+        return estimate(self, max_length)

@@ -202,9 +202,14 @@ def steady_start(scene: Scene, top, robot, dt: float):
                       f"tether.length > {reach:.2f} m or tether.EA > 0, or move the robot or the ship closer")
     if rise >= 0.5 * L:
         return None, f"no steady state (the tow point is {rise:.2f} m above the seabed, the tether {L:g} m long)"
+    if scene.walker and robot[2] < -depth - 1e-9:
+        t = scene.sc.tether
+        return None, (f"tether.diameter = {t.diameter:g} m: a cable resting on the seabed has its axis {radius:g} m up, "
+                      f"above the walker's tow point ({robot[2] + depth + radius:.2f} m up); a walker tows a tether "
+                      f"of diameter below {2 * (robot[2] + depth + radius):.2f} m")
     ss, note = _solve_start(scene, water, top, foot, dt, length=L - rise)
     if ss is None:
-        return None, note
+        return None, _explained(scene, note, top, robot, L, reach)
     if rise > 0:  # the nodes' material points on the solved line, then up to the tow point
         s_solved = arc_lengths(scene, L - rise)
         pts = np.vstack([ss.nodes, robot])
@@ -223,6 +228,30 @@ def steady_start(scene: Scene, top, robot, dt: float):
     if below > 2 * radius:
         return None, f"no steady state clear of the sloped seabed (it crosses it by {below:.2f} m)"
     return ss, note
+
+
+def _explained(scene: Scene, note: str, top, robot, length: float, reach: float) -> str:
+    """``note`` (why no steady start was found) with what in the scenario makes it so, where that
+    is clear: a buoyant tether (the steady start does not model a cable floating at the
+    surface), or an end above the seabed with more cable than reaches it (the excess would lie on
+    the seabed between the ends)."""
+    t, spec = scene.sc.tether, scene.tether_spec
+    if scene.makeup is None:
+        rho = float(np.asarray(scene.water.rho(0.0)).ravel()[0])
+        wet = (spec.mu - rho * spec.area) * scene.water.gravity
+        if wet < 0.0:
+            mass = (f"tether.mass_per_length = {t.mass_per_length:g} kg/m" if t.mass_per_length > 0
+                    else f"tether.density = {t.density:g} kg/m^3")
+            return (f"{note}: {mass} and tether.diameter = {t.diameter:g} m make the tether {-wet:.3g} N/m buoyant "
+                    f"in water ({rho:g} kg/m^3), and its steady start does not model a cable floating up to and "
+                    f"along the surface; give a tether heavier than the water it displaces, or "
+                    f"simulation.start = \"settle\"")
+    if "between its two ends" in note:
+        above = float(robot[2] - scene.seabed_z(robot[0], robot[1]))
+        return (f"{note}: robot.position is {above:.2f} m above the seabed and tether.length = {length:g} m is "
+                f"{length - reach:.2f} m more than the {reach:.2f} m between the ship's fairlead and it; put the "
+                f"robot on the seabed, shorten the tether, or give simulation.start = \"settle\"")
+    return note
 
 
 def _too_heavy_note(scene: Scene, stretch_pct: float, tension: float) -> str:
