@@ -100,6 +100,37 @@ def test_no_push_survives_a_step_paying_out_to_the_seabed(current_kn):
     assert worst <= 0.1 * w_element, f"an element pushed with {worst:.4g} N at t = {when:.2f} s"
 
 
+def test_after_the_payout_the_top_holds_the_suspended_weight():
+    """The payout above in still water, stopped at 400 m (at about 81 s) and held: from 100 s to 130 s
+    the vertical force at the ship is the wet weight of the suspended line, w s_td, s_td the
+    arc length from the fairlead to the touchdown (the laid cable carries no vertical force but
+    the seabed's). The touchdown lies between the last hanging node and the first on the seabed
+    (s_(k-1) < s_td < s_k): the test takes s_k - l/2 and allows 2 % (half an element's weight is
+    1.2 % of it; measured 0.1-0.3 %), and the force must lie within the bracket w s_(k-1) .. w s_k.
+    (While paying out at 2 m/s the top holds about a fifth less: the tangential drag on the
+    descending line, 1/2 rho C_dt pi d v^2 = 1.5 N/m against w = 7.6 N/m. In the 2 kn current
+    across the line the drag on the line swept out of its plane has a vertical part too: no
+    weight balance there.)"""
+    w = (1.5 - 1025.0 * np.pi * 0.03 ** 2 / 4) * 9.81  # N/m in water
+    run = ScenarioRun(load_scenario(text=PAYOUT.replace("max_length = 700.0", "max_length = 400.0")))
+    try:
+        checked = 0
+        for _ in range(int(round(130.0 / run.sim.timestep))):
+            run.step()
+            if run.sim.time >= 100.0 - 1e-9 and abs(run.sim.time / 10.0 - round(run.sim.time / 10.0)) < 1e-6:
+                assert run.bt.deployed_length == pytest.approx(400.0)
+                x = run.bt.nodes(run.sim.data)
+                k = int(np.flatnonzero(x[:, 2] <= -200.0 + 0.015 + 0.005)[0])  # first node on the seabed
+                s = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(x, axis=0), axis=1))]
+                V = -float(run.named.ship_force[2])
+                assert w * s[k - 1] <= V <= w * s[k], (V, w * s[k - 1], w * s[k])
+                assert V == pytest.approx(w * (s[k] - 0.5 * (s[k] - s[k - 1])), rel=0.02)
+                checked += 1
+        assert checked == 4
+    finally:
+        run.close()
+
+
 def test_the_outputs_carry_the_pushes(tmp_path):
     """``max_compression_N`` in timeseries.csv is the largest of the elements' ``compression``
     in tether.npz at each sample; no element both pulls and pushes."""
