@@ -54,6 +54,20 @@ def test_every_page_of_docs_is_in_the_nav():
     assert not missing, f"docs pages missing from mkdocs.yml's nav: {missing}"
 
 
+def test_the_validation_page_quotes_the_lowe_langley_table_as_generated():
+    """docs/validation.md repeats the fairlead-tension table that
+    scripts/reproduce_lowe_langley2006.py writes into docs/lowe_langley2006.md: the copy must
+    be the generated one, so that regenerating the reproduction cannot leave it stale."""
+    head = "| case | added_mass | RMS difference (kN) | largest (kN) | our range (kN) | paper's range (kN) |\n"
+
+    def table(page):
+        text = (ROOT / "docs" / page).read_text()
+        i = text.index(head)
+        return text[i:text.index("\n\n", i)]
+
+    assert table("validation.md") == table("lowe_langley2006.md")
+
+
 def test_the_gallery_matches_the_shipped_examples():
     """Every shipped example has its picture, made from the example file as it is now (the
     manifest's sha256), and docs/gallery.md is what the manifest gives (no rendering here:
