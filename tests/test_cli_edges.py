@@ -129,6 +129,14 @@ def test_a_set_mistake_names_the_set_option_not_the_file(tmp_path, capsys, item,
     assert str(f) not in err and err.count("\n") == 1
 
 
+def test_a_network_set_mistake_names_the_set_option_not_the_file(capsys):
+    """A network (``examples/networks``) takes --set too: a value its checks refuse names the
+    --set that gave it, not the network's file (it did)."""
+    assert cli.main(["solve", "networks/rov_cage_excursion", "--set", "water.depth=-5"]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("mjtether: --set water.depth=-5: water.depth must be > 0 m") and ".toml" not in err, err
+
+
 def test_a_file_mistake_names_the_file_and_duration_blames_the_option(tmp_path, capsys):
     f = tmp_path / "bad.toml"
     f.write_text(small(1.0).replace("length = 120.0", "length = -5.0"))

@@ -376,9 +376,9 @@ def with_overrides(net: Network, overrides=()) -> Network:
     """``net`` with ``--set`` items ``simulation.KEY=VALUE`` or ``water.KEY=VALUE`` (numbers;
     ``simulation.timestep=none``: the largest stable step; ``simulation.start=as_written``)
     applied and checked."""
-    changes = {}
+    changes = []  # (field, value, the label to blame: "--set KEY=VALUE", or the one load_scenario was given)
     for item in overrides:
-        item = item[0] if isinstance(item, tuple) else item  # (key=value, the label load_scenario blames)
+        item, label = item if isinstance(item, tuple) else (item, f"--set {item}")
         key, eq, val = str(item).partition("=")
         key = key.strip()
         sec, _, field_ = key.partition(".")
@@ -388,13 +388,19 @@ def with_overrides(net: Network, overrides=()) -> Network:
                                + ", ".join(f"{s}.{k}" for s in ("simulation", "water") for k in sorted(_SECTIONS[s])
                                          if not k.startswith(("current", "bathymetry"))))
         if field_ == "start":
-            changes[field_] = val.strip()
+            changes.append((field_, val.strip(), label))
             continue
         try:
-            changes[field_] = None if (field_ == "timestep" and val.strip().lower() == "none") else float(val)
+            value = None if (field_ == "timestep" and val.strip().lower() == "none") else float(val)
         except ValueError:
             raise NetworkError(f"--set {key}: give {key}=NUMBER, got {val!r}") from None
+        changes.append((field_, value, label))
     try:
-        return dataclasses.replace(net, **changes) if changes else net
+        return dataclasses.replace(net, **{f: v for f, v, _ in changes}) if changes else net
     except ValueError as exc:
-        raise NetworkError(f"{net.name}: {exc}") from None
+        for field_, value, label in changes:  # which --set: the first refused on its own
+            try:
+                dataclasses.replace(net, **{field_: value})
+            except ValueError as alone:
+                raise NetworkError(f"{label}: {alone}") from None
+        raise NetworkError(f"{', '.join(label for _, _, label in changes)}: {exc}") from None
