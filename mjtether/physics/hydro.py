@@ -116,6 +116,15 @@ def loading_function_drag(t: np.ndarray, u: np.ndarray, rho, l_wet, diameter, cd
     return (q * fp)[:, None] * n_dir + (q * ft * np.sign(ut))[:, None] * t
 
 
+def element_drag(drag_law: str, t, u, rho, l_wet, diameter, cd_normal, cd_tangential_pi, float_cd_area=None):
+    """Drag (N, world) on straight cable elements by ``drag_law`` (``DRAG_LAWS``):
+    ``morison_drag``, or ``loading_function_drag`` with ``cd_normal`` as its one C_d (the
+    tangential coefficient and the floats' drag area unused)."""
+    if drag_law == "loading_functions":
+        return loading_function_drag(t, u, rho, l_wet, diameter, cd_normal)
+    return morison_drag(t, u, rho, l_wet, diameter, cd_normal, cd_tangential_pi, float_cd_area)
+
+
 def tether_loads(
     x: np.ndarray,
     v: np.ndarray,
@@ -155,11 +164,8 @@ def tether_loads(
     vrel = current_fn(zc)
     vrel -= 0.5 * (v[1:] + v[:-1])
     # each of the element's two nodes takes half of its drag
-    if drag_law == "loading_functions":
-        half = 0.5 * loading_function_drag(t, vrel, rho, segment_length * frac, diameter, cd_normal)
-    else:
-        half = 0.5 * morison_drag(t, vrel, rho, segment_length * frac, diameter, cd_normal,
-                                  np.pi * np.asarray(cd_tangential), float_cd_area)
+    half = 0.5 * element_drag(drag_law, t, vrel, rho, segment_length * frac, diameter, cd_normal,
+                              np.pi * np.asarray(cd_tangential), float_cd_area)
     if area is None:
         fb = (gravity * np.pi * diameter**2 / 4.0 * segment_length) * rho * frac
     else:

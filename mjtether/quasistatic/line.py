@@ -20,7 +20,7 @@ import numpy as np
 from mjtether.cable.makeup import LineMakeup
 from mjtether.cable.tether import TetherSpec
 from mjtether.physics import compiled
-from mjtether.physics.hydro import loading_function_drag, morison_drag, wet_fraction
+from mjtether.physics.hydro import element_drag, wet_fraction
 from mjtether.physics.water import WaterColumn
 
 from . import kernels
@@ -131,10 +131,7 @@ class _Cable:
         rho = self.water.rho(zc)
         u = self.water.velocity(zc) - self.v_tow
         floats = self.float_cda[k] if self.float_cda is not None and self.float_cda[k] > 0.0 else None
-        if self.drag_law == "loading_functions":
-            f = loading_function_drag(t, u, rho, l_wet, d, self.cdn_e[k])
-        else:
-            f = morison_drag(t, u, rho, l_wet, d, self.cdn_e[k], self.cdt_pi_e[k], floats)
+        f = element_drag(self.drag_law, t, u, rho, l_wet, d, self.cdn_e[k], self.cdt_pi_e[k], floats)
         f[:, 2] += (rho * A * l_wet - mu * l) * self.g
         return f
 

@@ -209,7 +209,7 @@ def steady_start(scene: Scene, top, robot, dt: float):
                       f"of diameter below {2 * (robot[2] + depth + radius):.2f} m")
     ss, note = _solve_start(scene, water, top, foot, dt, length=L - rise)
     if ss is None:
-        return None, _explained(scene, note, top, robot, L, reach)
+        return None, _explained(scene, note, robot, L, reach)
     if rise > 0:  # the nodes' material points on the solved line, then up to the tow point
         s_solved = arc_lengths(scene, L - rise)
         pts = np.vstack([ss.nodes, robot])
@@ -230,18 +230,15 @@ def steady_start(scene: Scene, top, robot, dt: float):
     return ss, note
 
 
-def _explained(scene: Scene, note: str, top, robot, length: float, reach: float) -> str:
+def _explained(scene: Scene, note: str, robot, length: float, reach: float) -> str:
     """``note`` (why no steady start was found) with what in the scenario makes it so, where that
     is clear: a buoyant tether (the steady start does not model a cable floating at the
     surface), or an end above the seabed with more cable than reaches it (the excess would lie on
     the seabed between the ends)."""
-    t, spec = scene.sc.tether, scene.tether_spec
+    t = scene.sc.tether
     if scene.makeup is None:
-        rho = float(np.asarray(scene.water.rho(0.0)).ravel()[0])
-        wet = (spec.mu - rho * spec.area) * scene.water.gravity
+        mass, wet, rho = _wet_weight(scene)
         if wet < 0.0:
-            mass = (f"tether.mass_per_length = {t.mass_per_length:g} kg/m" if t.mass_per_length > 0
-                    else f"tether.density = {t.density:g} kg/m^3")
             return (f"{note}: {mass} and tether.diameter = {t.diameter:g} m make the tether {-wet:.3g} N/m buoyant "
                     f"in water ({rho:g} kg/m^3), and its steady start does not model a cable floating up to and "
                     f"along the surface; give a tether heavier than the water it displaces, or "
@@ -254,6 +251,17 @@ def _explained(scene: Scene, note: str, top, robot, length: float, reach: float)
     return note
 
 
+def _wet_weight(scene: Scene) -> tuple[str, float, float]:
+    """The uniform tether's weight in water at the surface: (the key that gives its mass, as
+    ``tether.density = ...`` or ``tether.mass_per_length = ...``; its wet weight, N/m, positive
+    if it sinks; the water's density there, kg/m^3)."""
+    t, spec = scene.sc.tether, scene.tether_spec
+    rho = float(np.asarray(scene.water.rho(0.0)).ravel()[0])
+    mass = (f"tether.mass_per_length = {t.mass_per_length:g} kg/m" if t.mass_per_length > 0
+            else f"tether.density = {t.density:g} kg/m^3")
+    return mass, (spec.mu - rho * spec.area) * scene.water.gravity, rho
+
+
 def _too_heavy_note(scene: Scene, stretch_pct: float, tension: float) -> str:
     """Why a steady state is out of the tether's strength, naming the keys that make it so: the
     weight (or buoyancy) per metre from ``tether.mass_per_length`` / ``tether.density`` and
@@ -263,11 +271,7 @@ def _too_heavy_note(scene: Scene, stretch_pct: float, tension: float) -> str:
     if t.is_makeup:
         return (f"no steady state within the tether's strength (it would be stretched by {stretch_pct:.0f} %, at "
                 f"{tension:.3g} N: the sections' EA cannot hold their weight)")
-    spec = scene.tether_spec
-    rho = float(np.asarray(scene.water.rho(0.0)).ravel()[0])
-    wet = (spec.mu - rho * spec.area) * scene.water.gravity  # N/m, positive: sinks
-    mass = (f"tether.mass_per_length = {t.mass_per_length:g} kg/m" if t.mass_per_length > 0
-            else f"tether.density = {t.density:g} kg/m^3")
+    mass, wet, _ = _wet_weight(scene)
     why = (f"{mass} and tether.diameter = {t.diameter:g} m make it {abs(wet):.3g} N/m "
            f"{'heavy' if wet >= 0 else 'buoyant'} in water, and tether.EA = {t.EA:g} N would stretch by "
            f"{stretch_pct:.0f} % at the {tension:.3g} N that holds it (at most {100 * MAX_START_STRAIN:.0f} %)")
