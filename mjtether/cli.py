@@ -310,9 +310,13 @@ def _run_network(args, net) -> int:
         return 130
     bar.close()
     final = dict(zip(run.columns(net), rows[-1]))
-    worst = max(net.lines, key=lambda ln: final[f"line{ln.name}_B_tension_N"])
-    print(f"{rows[-1, 0]:g} s simulated ({len(net.lines)} lines, step {r.timestep:g} s); largest end-B tension "
-          f"{final[f'line{worst.name}_B_tension_N']:.0f} N (line {worst.name}); results in {args.out}/")
+    if net.lines:
+        worst = max(net.lines, key=lambda ln: final[f"line{ln.name}_B_tension_N"])
+        what = f"largest end-B tension {final[f'line{worst.name}_B_tension_N']:.0f} N (line {worst.name})"
+    else:
+        what = f"{len(net.bodies)} bodies, no lines"
+    print(f"{rows[-1, 0]:g} s simulated ({len(net.lines)} lines, step {r.timestep:g} s); {what}; results in "
+          f"{args.out}/")
     return 0
 
 

@@ -19,9 +19,10 @@ least as deep as the lowest point).
   robot end): a chain is a line make-up, one ``[[tether.sections]]`` per line and a
   ``[[tether.point_loads]]`` at each free point with mass, volume or drag;
 * a ``mjtether.network.Network`` for anything else: several lines sharing points, free points
-  and free line ends, fixed or coupled or free bodies, and rods (fixed, coupled or free: each a
-  rigid cylinder, a body ``rod<n>`` with points ``R<n>A`` and ``R<n>B`` at its ends, its
-  hydrodynamics lumped at its middle where MoorDyn spreads them over its segments). It settles
+  and free line ends, fixed, coupled, free or pinned bodies, and rods (fixed, coupled, free or
+  pinned at end A: each a rigid cylinder, a body ``rod<n>`` with points ``R<n>A`` and ``R<n>B``
+  at its ends, its hydrodynamics lumped at its middle where MoorDyn spreads them over its
+  segments; a file of rods alone is a network without lines). It settles
   for the file's TmaxIC (at most ``MAX_SETTLE``) before its run, as MoorDyn relaxes before its
   own; with TmaxIC 0 it starts, as MoorDyn does, from the file's positions at rest.
 
@@ -31,11 +32,11 @@ BA/-zeta: mjtether damps each element's stretch critically (noted). Read, not ne
 options of MoorDyn's own integrator and initial-condition solver (dtM, CFL, tScheme, dtIC,
 TmaxIC, CdScaleIC, threshIC, ICgenDynamic, fileIC; mjtether picks its own stable step and
 starts from its steady state), FricDamp (mjtether's friction sticks exactly), the output
-options and the OUTPUTS section. Refused, naming the feature and the file's line: pinned rods,
-rods on bodies, a line with bending stiffness on a rod's end (MoorDyn clamps it), line failure,
-SYROPE line types, viscoelastic ('|') or nonlinear (a curve file) EA, BA in N s, VIV (Cl != 0),
-pinned bodies, waves (WaveKin), MoorDyn's dynamic current files (Currents 2, 4, 5) and static
-friction other than kinetic (StatDynFricScale). A 3-D seafloor (SeafloorFile, beside the file
+options and the OUTPUTS section. Refused, naming the feature and the file's line: rods on
+bodies, a line with bending stiffness on a rod's end (MoorDyn clamps it), line failure, SYROPE
+line types, viscoelastic ('|') or nonlinear (a curve file) EA, BA in N s, VIV (Cl != 0), waves
+(WaveKin), MoorDyn's dynamic current files (Currents 2, 4, 5) and static friction other than
+kinetic (StatDynFricScale). A 3-D seafloor (SeafloorFile, beside the file
 or in the working folder, where MoorDyn-C looks) becomes the seabed's height field. MoorDyn-C
 pushes its nodes straight up from it and rubs them horizontally; mjtether's contact and
 friction act along the seabed's normal and tangent plane, so on a slope they differ.
@@ -192,11 +193,14 @@ def parse(text: str, name: str = "<moordyn>") -> Parsed:
             raise ScenarioError(f"{name}: line {no}: {what} ({key} section) are not supported by mjtether")
     if "RODS" in sec:  # (first: a file of rods alone has no LINE TYPES)
         _rods(name, sec, [])
-    if "LINE TYPES" not in sec:
+    elif "LINE TYPES" not in sec:
         raise ScenarioError(f"{name}: line 1: no LINE TYPES section: not a MoorDyn v2 input file")
-    for key in ("POINTS", "LINES"):
-        if key not in sec:
-            raise ScenarioError(f"{name}: line 1: no {key} section")
+    elif "LINES" not in sec:
+        raise ScenarioError(f"{name}: line 1: no LINES section (and no RODS): nothing to run")
+
+    def table(key):  # (a file of rods alone has no LINE TYPES, POINTS or LINES)
+        return _table(name, sec, key)[1] if key in sec else []
+
     notes, rows = [], {}
 
     # options first: g and rho are needed for the rest
@@ -241,8 +245,7 @@ def parse(text: str, name: str = "<moordyn>") -> Parsed:
     g, rho = opt("g", MOORDYN_G), opt("rho", 1025.0)
 
     types = {}
-    _, type_rows = _table(name, sec, "LINE TYPES")
-    for no, f in type_rows:
+    for no, f in table("LINE TYPES"):
         if len(f) < 10:
             raise ScenarioError(f"{name}: line {no}: a line type needs TypeName Diam Mass/m EA BA/-zeta EI Cd Ca CdAx "
                                 f"CaAx, got {len(f)} columns")
@@ -288,8 +291,7 @@ def parse(text: str, name: str = "<moordyn>") -> Parsed:
             rows[f"body{body.name}"] = no
             points.update(ends)
     depth = opt("wtrdpth", 0.0)
-    _, point_rows = _table(name, sec, "POINTS")
-    for k, (no, f) in enumerate(point_rows, 1):
+    for k, (no, f) in enumerate(table("POINTS"), 1):
         if len(f) < 9:
             raise ScenarioError(f"{name}: line {no}: a point needs 9 fields (ID Attachment X Y Z Mass Volume CdA Ca) "
                                 f"or 12 (with Fx Fy Fz before CdA), got {len(f)}")
@@ -329,7 +331,7 @@ def parse(text: str, name: str = "<moordyn>") -> Parsed:
         rows[f"point{f[0]}"] = no
 
     lines = []
-    _, line_rows = _table(name, sec, "LINES")
+    line_rows = table("LINES")
     for k, (no, f) in enumerate(line_rows, 1):
         if len(f) < 6:
             raise ScenarioError(f"{name}: line {no}: a line needs ID LineType AttachA AttachB UnstrLen NumSegs")
@@ -358,7 +360,7 @@ def parse(text: str, name: str = "<moordyn>") -> Parsed:
         except ValueError as exc:
             raise ScenarioError(f"{name}: line {no}: {exc}") from None
         rows[f"line{f[0]}"] = no
-    if not lines:
+    if not lines and "RODS" not in sec:
         raise ScenarioError(f"{name}: line {sec['LINES'][0]}: the LINES section has no line")
     for pid, p in points.items():
         if p.kind == "free" and not any(pid in (ln.a, ln.b) for ln in lines):
@@ -414,8 +416,13 @@ def _current_profile(name: str, no: int) -> tuple:
     return tuple(zip(*table))
 
 
-def _held_kind(word: str) -> str | None:
-    """A body's or rod's attachment word as a ``Body`` kind (fixed, coupled, free), or None."""
+def _held_kind(word: str, rod: bool = False) -> str | None:
+    """A body's or rod's attachment word as a ``Body`` kind (fixed, coupled, free, pinned), or
+    None. MoorDyn-C pins a rod (Pinned: its end A held in place; CoupledPinned: held where the
+    coupled program puts it, which a file run leaves where the file puts it) and a body
+    (CoupledPinned: its reference point)."""
+    if word in _PINNED or (rod and word in ("PINNED", "PIN")):
+        return "pinned"
     return "fixed" if word in _FIXED else "coupled" if word in _COUPLED else "free" if word == "FREE" else None
 
 
@@ -440,12 +447,11 @@ def _rods(name, sec, notes):
         if f[1] not in rod_types:
             raise ScenarioError(f"{name}: line {no}: rod type {f[1]!r} is not in ROD TYPES ({', '.join(rod_types)})")
         word, _ = _word(f[1 + 1])
-        kind = _held_kind(word)
+        kind = _held_kind(word, rod=True)
         if kind is None:
-            why = ("pinned rods" if "PIN" in f[2].upper() else "rods on a body" if word == "BODY"
-                   else f"rod type {f[2]!r}")
-            raise ScenarioError(f"{name}: line {no}: {why} are not supported by mjtether (Fixed, Coupled, Free rods "
-                                "are)")
+            why = "rods on a body" if word == "BODY" else f"rod type {f[2]!r}"
+            raise ScenarioError(f"{name}: line {no}: {why} are not supported by mjtether (Fixed, Coupled, Free, "
+                                "Pinned rods are)")
         a = [_number(name, no, x, "Xa/Ya/Za") for x in f[3:6]]
         b = [_number(name, no, x, "Xb/Yb/Zb") for x in f[6:9]]
         d, m, cd, ca, cd_end, ca_end = rod_types[f[1]]
@@ -463,7 +469,8 @@ def _rods(name, sec, notes):
                                                                                            math.degrees(yaw)),
                         mass=mass, inertia=(mass * d * d / 8, mass * (L * L / 12 + d * d / 16),
                                             mass * (L * L / 12 + d * d / 16)),
-                        volume=volume, cd_area=(cd_end * area, cd * d * L, cd * d * L), ca=(ends_ca, ca, ca))
+                        volume=volume, cd_area=(cd_end * area, cd * d * L, cd * d * L), ca=(ends_ca, ca, ca),
+                        pin=(-L / 2, 0.0, 0.0) if kind == "pinned" else (0.0, 0.0, 0.0))
             ends = {f"R{f[0]}{e}": Point(f"R{f[0]}{e}", "body", (s * L / 2, 0.0, 0.0), body=body.name)
                     for e, s in (("A", -1.0), ("B", 1.0))}
         except ValueError as exc:
@@ -481,8 +488,8 @@ def _body(name, no, f, Body):
     word, _ = _word(f[1])
     kind = _held_kind(word)
     if kind is None:
-        why = "pinned bodies" if word in _PINNED else f"body type {f[1]!r}"
-        raise ScenarioError(f"{name}: line {no}: {why} are not supported by mjtether (Fixed, Coupled, Free)")
+        raise ScenarioError(f"{name}: line {no}: body type {f[1]!r} is not supported by mjtether (Fixed, Coupled, "
+                            "Free, CoupledPinned)")
 
     def parts(text, what, counts):
         vals = [_number(name, no, x, what) for x in text.split("|")]

@@ -10,7 +10,8 @@ A ``Network`` holds any number of lines, each between two points. A point is
   connecting ring, a free line end): its position is part of the solution.
 
 Several lines may share a point (a bridle, a spread mooring, two lines to one anchor). A body
-is ``coupled`` or ``fixed`` (held at its pose) or ``free`` (a 6-DOF rigid body). A vehicle
+is ``coupled`` or ``fixed`` (held at its pose), ``free`` (a 6-DOF rigid body) or ``pinned`` (turning
+freely about its ``pin``, a point held in the world: MoorDyn's pinned rods and bodies). A vehicle
 (``Vehicle``: a vehicle file, such as the BlueROV2 Heavy) flies on its own thrusters, holding a
 station. A line may pay out from a winch at its end B (a drum on a cage, say) at a constant speed
 up to a length. Units SI,
@@ -27,7 +28,7 @@ from mjtether import _checks
 from mjtether.cable.tether import TetherSpec
 
 POINT_KINDS = ("fixed", "coupled", "body", "free")
-BODY_KINDS = ("fixed", "coupled", "free")
+BODY_KINDS = ("fixed", "coupled", "free", "pinned")
 STARTS = ("steady", "as_written")
 DEFAULT_GRAVITY = 9.80665
 """MoorDyn-C's default g (m/s^2)."""
@@ -109,7 +110,8 @@ class Point:
 class Body:
     """A rigid body: pose (m; roll, pitch, yaw in degrees), mass (kg), centre of gravity (m, body
     frame), principal inertia (kg m^2), volume (m^3), drag areas CdA (m^2, per body axis) and
-    added-mass coefficients (on rho V, per body axis)."""
+    added-mass coefficients (on rho V, per body axis). A ``pinned`` body turns about its ``pin``
+    (m, body frame), which stays where the pose puts it."""
 
     name: str
     kind: str
@@ -121,17 +123,20 @@ class Body:
     volume: float = 0.0
     cd_area: tuple = (0.0, 0.0, 0.0)
     ca: tuple = (0.0, 0.0, 0.0)
+    pin: tuple = (0.0, 0.0, 0.0)
 
     def __post_init__(self):
         where = f"body {self.name!r}"
         if self.kind not in BODY_KINDS:
             raise NetworkError(f"{where}: kind must be one of {', '.join(BODY_KINDS)}, got {self.kind!r}")
-        for key in ("position", "rpy_deg", "cg", "inertia", "cd_area", "ca"):
+        for key in ("position", "rpy_deg", "cg", "inertia", "cd_area", "ca", "pin"):
             object.__setattr__(self, key, tuple(_checks.vector3(f"{where}: {key}", getattr(self, key))))
         _checks.non_negative(f"{where}: mass", self.mass)
         _checks.non_negative(f"{where}: volume", self.volume)
-        if self.kind == "free" and (self.mass <= 0 or min(self.inertia) <= 0):
-            raise NetworkError(f"{where}: a free body needs a mass (kg) and inertia (kg m^2) > 0")
+        if self.kind in ("free", "pinned") and (self.mass <= 0 or min(self.inertia) <= 0):
+            raise NetworkError(f"{where}: a {self.kind} body needs a mass (kg) and inertia (kg m^2) > 0")
+        if self.kind != "pinned" and any(self.pin):
+            raise NetworkError(f"{where}: only a pinned body has a pin (kind is {self.kind!r})")
 
 
 @dataclass(frozen=True)
@@ -260,8 +265,8 @@ class Network:
                 self.grid
             except ValueError as exc:
                 raise NetworkError(f"water.bathymetry: {exc}") from None
-        if not self.lines:
-            raise NetworkError("lines: a network needs at least one line")
+        if not self.lines and not any(b.kind in ("free", "pinned") for b in self.bodies.values()):
+            raise NetworkError("lines: a network needs at least one line (or a free or pinned body)")
         names = [ln.name for ln in self.lines]
         if len(set(names)) != len(names):
             raise NetworkError(f"lines: names must differ, got {names}")

@@ -8,7 +8,9 @@ a point lighter than the end nodes of its lines is given that much more inertia,
 weight compensated (MuJoCo's ``gravcomp``), so that the constraints that hold the line ends to
 it are as well conditioned as the rest: the statics are exact, and the point's inertia in the
 dynamics is that of the line ends it joins. Coupled and fixed bodies are held at their pose; a
-free body starts at its given pose (the statics hold it there) and settles. A vehicle is its
+free body starts at its given pose (the statics hold it there) and settles; a pinned body turns
+on a ball joint at its pin (its added mass there as the diagonal of the rigid-body transform to
+the pin, ``rigidbody.BoundBodyHydro``). A vehicle is its
 vehicle file's MuJoCo body (``vehicles.build_vehicle``), flown by the scenario's autopilot
 (``VehiclePilot``) holding its station; a line paying out has its drum at end B, whose deployed
 length grows at its payout speed up to its max_length (``BoundTether.set_length``).
@@ -146,6 +148,10 @@ class NetworkRun:
         return self.sim.data.xpos[self.point_bodies[name]].copy()
 
 
+MOVING = ("free", "pinned")
+"""The kinds of body that move (on a free joint; on a ball joint at the pin)."""
+
+
 def build(net: Network) -> NetworkRun:
     """The network in MuJoCo at its steady state (``statics.equilibrium``), or with every point
     where it is given (``net.start == "as_written"``)."""
@@ -167,8 +173,11 @@ def build(net: Network) -> NetworkRun:
     hydro = []
     for name, b in net.bodies.items():
         body = spec.worldbody.add_body(name=f"body/{name}", pos=list(b.position), quat=_quat(b.rpy_deg))
-        if b.kind == "free":
-            body.add_freejoint()
+        if b.kind in MOVING:
+            if b.kind == "free":
+                body.add_freejoint()
+            else:
+                body.add_joint(name=f"body/{name}/pin", type=mujoco.mjtJoint.mjJNT_BALL, pos=list(b.pin))
             body.explicitinertial = True  # (else MuJoCo infers the inertia from geoms, and there are none)
             body.mass, body.ipos, body.inertia = b.mass, list(b.cg), list(b.inertia)
             hydro.append(add_body_hydro(spec, f"body/{name}", RigidBodyHydro(
@@ -271,7 +280,8 @@ def settle(r: NetworkRun, duration: float) -> None:
 
 def columns(net: Network) -> list[str]:
     """The time series' columns: per line, the tension (N) and its horizontal and vertical parts
-    at ends A and B and its stretched length (m); per free point and free body, its position (m);
+    at ends A and B and its stretched length (m); per free point and free or pinned body, its
+    position (m);
     per vehicle, its position (m) and heading (deg); per line paying out, its deployed length (m)."""
     cols = ["time_s"]
     for ln in net.lines:
@@ -283,7 +293,7 @@ def columns(net: Network) -> list[str]:
         if p.kind == "free":
             cols += [f"point{name}_{k}_m" for k in "xyz"]
     for name, b in net.bodies.items():
-        if b.kind == "free":
+        if b.kind in MOVING:
             cols += [f"body{name}_{k}_m" for k in "xyz"]
     for name in net.vehicles:
         cols += [f"vehicle{name}_{k}_m" for k in "xyz"] + [f"vehicle{name}_heading_deg"]
@@ -292,15 +302,21 @@ def columns(net: Network) -> list[str]:
 
 
 def sample(r: NetworkRun) -> list[float]:
+    """One row of ``columns``. The line forces are the last step's (MuJoCo's constraint forces,
+    found at the state that step began from); the positions are at ``sim.time`` (after a step,
+    MuJoCo's kinematics still describe the state it began from: they are brought up to date
+    here first, which changes nothing the next step computes)."""
+    forces = {ln.name: r.line_forces(ln.name) for ln in r.net.lines}
+    mujoco.mj_kinematics(r.sim.model, r.sim.data)
     row = [r.sim.time]
     for ln in r.net.lines:
-        for f in r.line_forces(ln.name):
+        for f in forces[ln.name]:
             row += [float(np.linalg.norm(f)), float(math.hypot(f[0], f[1])), float(abs(f[2]))]
         row.append(r.sim.tethers[ln.name].stretched_length(r.sim.data))
     for name in r.point_bodies:
         row += list(r.point_position(name))
     for name, b in r.net.bodies.items():
-        if b.kind == "free":
+        if b.kind in MOVING:
             row += list(r.sim.data.xpos[r.sim.model.body(f"body/{name}").id])
     for name, body in r.vehicle_bodies.items():
         R = r.sim.data.xmat[body.id].reshape(3, 3)

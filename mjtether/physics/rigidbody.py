@@ -112,6 +112,16 @@ class BoundBodyHydro:
             model.dof_armature[dof:dof + 3] += [0.5 * (ma[0] + ma[1])] * 2 + [ma[2]]
             model.dof_armature[dof + 3:dof + 6] += h.added_inertia
             make_not_simple(model, self.id)
+        elif jnt >= 0 and model.jnt_type[jnt] == mujoco.mjtJoint.mjJNT_BALL:
+            # turning about the pin at r from the body's origin (body frame) moves the origin at
+            # w x r: the added mass's kinetic energy adds ma_j r_k^2 + ma_k r_j^2 about axis i
+            # (the diagonal of S(r)^T M_A S(r); the cross terms are left out)
+            r, ma = -model.jnt_pos[jnt], np.asarray(h.added_mass)
+            dof = model.jnt_dofadr[jnt]
+            model.dof_armature[dof:dof + 3] += np.asarray(h.added_inertia) + [
+                ma[1] * r[2] ** 2 + ma[2] * r[1] ** 2, ma[0] * r[2] ** 2 + ma[2] * r[0] ** 2,
+                ma[0] * r[1] ** 2 + ma[1] * r[0] ** 2]
+            make_not_simple(model, self.id)
         self._vel = np.zeros(6)
         # the compiled kernel (``compiled``), where it runs and knows the water's profiles
         self._codes = compiled.profile_codes(water) if compiled.backend() == "numba" else None

@@ -41,8 +41,9 @@ def _scratch(fn):
 def run_along(path, duration: float, every: float) -> dict:
     """Run ``path`` in MoorDyn-C (its initial-condition solver, then its ``dtM``) for ``duration``
     s and return, every ``every`` s, ``time_s``, each free point's position (``point<n>_x`` ...,
-    m) and each line's end tensions (``line<n>_A_tension``, ``line<n>_B_tension``: the end
-    segments' tension, N), as arrays."""
+    m), each rod's middle (``rod<n>_x`` ..., m: halfway between its end nodes) and each line's
+    end tensions (``line<n>_A_tension``, ``line<n>_B_tension``: the end segments' tension, N),
+    as arrays."""
     with _cwd(path.parent):
         s = moordyn.Create(str(path))
         try:
@@ -50,6 +51,7 @@ def run_along(path, duration: float, every: float) -> dict:
             points = {i + 1: moordyn.GetPoint(s, i + 1) for i in range(moordyn.GetNumberPoints(s))}
             points = {i: p for i, p in points.items() if moordyn.GetPointType(p) == moordyn.POINT_TYPE_FREE}
             lines = {i + 1: moordyn.GetLine(s, i + 1) for i in range(moordyn.GetNumberLines(s))}
+            rods = {i + 1: moordyn.GetRod(s, i + 1) for i in range(moordyn.GetNumberRods(s))}
             out, t = {}, 0.0
             for _ in range(round(duration / every)):
                 moordyn.Step(s, np.zeros(0), np.zeros(0), t, every)
@@ -57,6 +59,9 @@ def run_along(path, duration: float, every: float) -> dict:
                 row = {"time_s": t}
                 for i, p in points.items():
                     row.update(zip((f"point{i}_{k}" for k in "xyz"), moordyn.GetPointPos(p)))
+                for i, rod in rods.items():
+                    ends = np.array([moordyn.GetRodNodePos(rod, k) for k in (0, moordyn.GetRodN(rod))])
+                    row.update(zip((f"rod{i}_{k}" for k in "xyz"), ends.mean(axis=0)))
                 for i, ln in lines.items():
                     row[f"line{i}_A_tension"] = np.linalg.norm(moordyn.GetLineNodeTen(ln, 0))
                     row[f"line{i}_B_tension"] = np.linalg.norm(moordyn.GetLineNodeTen(ln, moordyn.GetLineN(ln)))

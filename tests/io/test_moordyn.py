@@ -136,10 +136,11 @@ REFUSED = {  # name: (edit of the chain file, what the error must contain)
                           "line 21: Currents = 2: dynamic or 4-D currents are not supported"),
     "static friction above kinetic": (("150           WtrDpth", "0.5 FrictionCoefficient\n1.5 StatDynFricScale\n150 WtrDpth"),
                                       "static and kinetic friction differ"),
-    "a pinned rod": (("---------------------- POINTS", "---------------------- ROD TYPES ---\nName Diam Mass Cd Ca "
-                      "CdEnd CaEnd\n(-) (m) (kg/m) (-) (-) (-) (-)\nCan 1 10 1 1 1 1\n---------------------- RODS ---\n"
-                      "ID RodType\n(#) (name)\n1 Can Pinned 0 0 0 0 0 5 4 -\n---------------------- POINTS"),
-                     "line 15: pinned rods are not supported by mjtether"),
+    "a rod pinned to a body": (("---------------------- POINTS", "---------------------- ROD TYPES ---\nName Diam Mass "
+                                "Cd Ca CdEnd CaEnd\n(-) (m) (kg/m) (-) (-) (-) (-)\nCan 1 10 1 1 1 1\n"
+                                "---------------------- RODS ---\nID RodType\n(#) (name)\n1 Can Body1Pinned 0 0 0 0 0 "
+                                "5 4 -\n---------------------- POINTS"),
+                               "line 15: rods on a body are not supported by mjtether"),
 }
 
 

@@ -42,6 +42,12 @@ BAD = {  # edit of GOOD: what the one-line error must say
                                   "a vehicle starts and holds station under water"),
     "a payout with no room on the drum": (("segments = 10", "segments = 10\npayout_speed = 0.5"),
                                           "line '1': a line paying out (payout_speed > 0) needs max_length"),
+    "a pin on a free body": (("[points.a]", '[bodies.buoy]\nkind = "free"\nposition = [0.0, 0.0, -20.0]\n'
+                                            "mass = 10.0\ninertia = [1.0, 1.0, 1.0]\npin = [0.0, 0.0, 1.0]\n"
+                                            "[points.a]"), "body 'buoy': only a pinned body has a pin"),
+    "a pinned body with no inertia": (("[points.a]", '[bodies.arm]\nkind = "pinned"\nposition = [0.0, 0.0, -20.0]'
+                                                     "\nmass = 10.0\n[points.a]"),
+                                      "body 'arm': a pinned body needs a mass (kg) and inertia (kg m^2) > 0"),
     "a bathymetry that is not there": (("depth = 50.0", 'depth = 50.0\nbathymetry = "nowhere.csv"'),
                                        "nowhere.csv: no such file"),
 }
