@@ -26,7 +26,7 @@ import csv
 import json
 import math
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import mujoco
@@ -112,6 +112,7 @@ class NetworkRun:
     timestep: float
     pilots: dict = None  # vehicle name -> its VehiclePilot
     vehicle_bodies: dict = None  # vehicle name -> its BoundVehicle
+    _scratch: mujoco.MjData | None = field(default=None, repr=False)  # (see poses_now)
 
     def advance(self, steps: int) -> None:
         """Step ``steps`` times; with vehicles or winches, their controls act before each step."""
@@ -146,6 +147,16 @@ class NetworkRun:
 
     def point_position(self, name: str) -> np.ndarray:
         return self.sim.data.xpos[self.point_bodies[name]].copy()
+
+    def poses_now(self) -> mujoco.MjData:
+        """The bodies' poses at ``sim.time`` (``xpos``, ``xmat``), in a scratch MjData: after a
+        step MuJoCo's own kinematics still describe the state the step began from, and are left
+        so (the pilots read them between steps)."""
+        if self._scratch is None:
+            self._scratch = mujoco.MjData(self.sim.model)
+        self._scratch.qpos[:] = self.sim.data.qpos
+        mujoco.mj_kinematics(self.sim.model, self._scratch)
+        return self._scratch
 
 
 MOVING = ("free", "pinned")
@@ -302,25 +313,23 @@ def columns(net: Network) -> list[str]:
 
 
 def sample(r: NetworkRun) -> list[float]:
-    """One row of ``columns``. The line forces are the last step's (MuJoCo's constraint forces,
-    found at the state that step began from); the positions are at ``sim.time`` (after a step,
-    MuJoCo's kinematics still describe the state it began from: they are brought up to date
-    here first, which changes nothing the next step computes)."""
-    forces = {ln.name: r.line_forces(ln.name) for ln in r.net.lines}
-    mujoco.mj_kinematics(r.sim.model, r.sim.data)
+    """One row of ``columns``. The line forces and lengths are the last step's (found at the
+    state that step began from); the positions of points, bodies and vehicles are at
+    ``sim.time`` (``NetworkRun.poses_now``)."""
     row = [r.sim.time]
     for ln in r.net.lines:
-        for f in forces[ln.name]:
+        for f in r.line_forces(ln.name):
             row += [float(np.linalg.norm(f)), float(math.hypot(f[0], f[1])), float(abs(f[2]))]
         row.append(r.sim.tethers[ln.name].stretched_length(r.sim.data))
-    for name in r.point_bodies:
-        row += list(r.point_position(name))
+    now = r.poses_now()
+    for bid in r.point_bodies.values():
+        row += list(now.xpos[bid])
     for name, b in r.net.bodies.items():
         if b.kind in MOVING:
-            row += list(r.sim.data.xpos[r.sim.model.body(f"body/{name}").id])
+            row += list(now.xpos[r.sim.model.body(f"body/{name}").id])
     for name, body in r.vehicle_bodies.items():
-        R = r.sim.data.xmat[body.id].reshape(3, 3)
-        row += list(r.sim.data.xpos[body.id]) + [math.degrees(math.atan2(R[1, 0], R[0, 0]))]
+        R = now.xmat[body.id].reshape(3, 3)
+        row += list(now.xpos[body.id]) + [math.degrees(math.atan2(R[1, 0], R[0, 0]))]
     row += [r.deployed_length(ln.name) for ln in r.net.lines if ln.payout_speed > 0]
     return row
 
