@@ -111,11 +111,10 @@ def write_network(net) -> str:
                 "ID Attachment X0 Y0 Z0 r0 p0 y0 Mass CG* I* Volume CdA* Ca*",
                 "(#) (-) (m) (m) (m) (deg) (deg) (deg) (kg) (m) (kg-m^2) (m^3) (m^2) (-)"]
         for name, b in net.bodies.items():
-            if b.kind == "pinned" and any(b.pin):
-                _refuse("bodies", f"body {name!r} is pinned away from its origin (a pinned rod): a MoorDyn body "
-                                  "turns about its reference point")
-            word = "CoupledPinned" if b.kind == "pinned" else b.kind.capitalize()
-            out.append(f"{bid[name]} {word} {' '.join(repr(float(x)) for x in b.position)} "
+            if b.kind == "pinned":
+                _refuse("bodies", f"body {name!r} is pinned (a pinned rod, say): a MoorDyn body is pinned only "
+                                  "where a coupled program moves it (CoupledPinned)")
+            out.append(f"{bid[name]} {b.kind.capitalize()} {' '.join(repr(float(x)) for x in b.position)} "
                        f"{' '.join(repr(float(x)) for x in b.rpy_deg)} {b.mass!r} {_bars(b.cg)} {_bars(b.inertia)} "
                        f"{b.volume!r} {_bars(b.cd_area)} {_bars(b.ca)}")
     out += ["---------------------- POINTS -------------------------------------------------",
