@@ -11,6 +11,14 @@ from mjtether import cli
 from mjtether.physics import water as wm
 from mjtether.simulation import Simulation
 from mjtether.vehicles.files import build_vehicle, load_vehicle
+from conftest import new_spec
+
+
+def _spec(water) -> mujoco.MjSpec:
+    """A 5 ms implicit-fast model under the water's own gravity."""
+    spec = new_spec(0.005)
+    spec.option.gravity = [0.0, 0.0, -water.gravity]
+    return spec
 
 
 def test_a_buoyant_rov_floats_with_archimedes_share_of_it_under_water():
@@ -20,10 +28,7 @@ def test_a_buoyant_rov_floats_with_archimedes_share_of_it_under_water():
     that carries its weight: B_wet = m g, Archimedes, within 0.5 % (the rest: its slow heave)."""
     vs = load_vehicle("bluerov2_heavy")
     water = wm.WaterColumn(depth=50.0)
-    spec = mujoco.MjSpec()
-    spec.option.timestep = 0.005
-    spec.option.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST
-    spec.option.gravity = [0.0, 0.0, -water.gravity]
+    spec = _spec(water)
     vm = build_vehicle(spec, vs, "rov", pos=(0.0, 0.0, -1.0))
     with Simulation(spec, water, bodies=[vm]) as sim:
         bv, d = sim.bodies[0], sim.data
@@ -91,10 +96,7 @@ def test_every_shipped_vehicle_states_its_water_and_a_neutral_one_stays_put_in_i
     vs = load_vehicle("remus100")
     water = wm.WaterColumn(depth=100.0, density=wm.ConstantDensity(vs.water_density))
     assert vs.mass == pytest.approx(vs.water_density * vs.hydro.volume, rel=1e-15)
-    spec = mujoco.MjSpec()
-    spec.option.timestep = 0.005
-    spec.option.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST
-    spec.option.gravity = [0.0, 0.0, -water.gravity]
+    spec = _spec(water)
     vm = build_vehicle(spec, vs, "auv", pos=(0.0, 0.0, -20.0))
     with Simulation(spec, water, bodies=[vm]) as sim:
         start = sim.data.xpos[sim.bodies[0].id].copy()
