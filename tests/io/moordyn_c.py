@@ -25,11 +25,20 @@ def _cwd(folder):
 
 
 def _scratch(fn):
-    """``fn(path)`` run on a copy of ``path``'s folder (MoorDyn-C writes its .log and .out beside the file)."""
-    def wrapped(path, *args):
+    """``fn(path, ...)`` run on a copy of ``path``'s folder (MoorDyn-C writes its .log and .out
+    beside the file); ``options`` ({name: value}) are written into the copy's OPTIONS section,
+    ahead of the file's own (MoorDyn-C takes the last value it reads, so the file's would win:
+    an option named here must not be in the file)."""
+    def wrapped(path, *args, options=None):
         src = Path(path).resolve()
         scratch = Path(tempfile.mkdtemp(prefix="moordyn-c-"))
         shutil.copytree(src.parent, scratch / "run")
+        if options:
+            lines = src.read_text().splitlines()
+            assert not [k for k in options if any(ln.split()[1:2] == [k] for ln in lines)], options
+            at = next(i for i, ln in enumerate(lines) if "OPTIONS" in ln.upper() and ln.lstrip().startswith("-"))
+            lines[at + 1:at + 1] = [f"{v}   {k}" for k, v in options.items()]
+            (scratch / "run" / src.name).write_text("\n".join(lines) + "\n")
         try:
             return fn(scratch / "run" / src.name, *args)
         finally:
@@ -78,8 +87,10 @@ def end_loads(path, duration: float, window: float) -> dict:
     ``dtM``) and return {line number: (mean force on the support at end A, at end B, final
     nodes A to B)} with the forces (N, world) averaged over the last ``window`` s: the end
     segment's pull (``GetLineNodeTen`` of an end node points along the line from A to B), the end
-    node's weight with buoyancy and its seabed reaction, i.e. what the line pulls its support with
-    (at a coupled point this is MoorDyn's own ``GetPointForce``, to 0.1 %)."""
+    node's weight with buoyancy, and its seabed reaction with its bending force (the shear a line
+    with EI passes to a pinned end: MoorDyn-C's ``GetLineNodeSeabedForce`` returns the two
+    together, ``B[i] + Bs[i]`` in its Line.hpp), i.e. what the line pulls its support with (at a
+    coupled point this is MoorDyn's own ``GetPointForce``, to 0.1 %)."""
     with _cwd(path.parent):
         s = moordyn.Create(str(path))
         try:
