@@ -105,6 +105,12 @@ and say which here:
   3.5 %, both at a jerk of the cable), ``hong2020_platform`` by 3e-3; ``TetheredROV-v0``'s tow
   force at one step by 36 N of 44 (a slack tether's snap, sampled at its peak: 44 N before,
   8.9 N now); the fibre-paying AUV runs by rounding.
+* issue 29 (tripod.txt): an element's wet part is its cylinder's below the surface, not its
+  axis' (``hydro.wet_fraction``'s ``half_height``): a cable whose top node is at z = 0 loses the
+  buoyancy and drag of the sliver above the surface. Every run with its fairlead at the surface
+  moved by up to 3.1e-5 of a column's largest value (``static_anchor_current``), the walkers on
+  uneven or followed ground by up to 2.9e-3 (``walker_bathymetry``, ``walker_ship_follows``:
+  their gaits' footing); the envs' observations by at most 1.2e-6.
 
     python tests/golden.py   # rewrites tests/data/golden_runs.npz
 """

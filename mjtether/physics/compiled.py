@@ -134,14 +134,50 @@ def _speed(kind, p, depth):
 
 
 @jit
-def _wet_fraction(z0, z1):
-    """``hydro.wet_fraction`` of one element with end heights ``z0``, ``z1`` (m): its submerged
-    fraction."""
+def _disk_wet(c):
+    """``hydro._disk_wet`` of one c: (F, G, H)."""
+    cc = min(max(c, -1.0), 1.0)
+    s = math.sqrt(1.0 - cc * cc)
+    a, b = math.acos(cc), math.asin(cc)
+    F = (math.pi - a + cc * s) / math.pi
+    G = (math.pi * cc - cc * a + s - s * s * s / 3.0) / math.pi + max(c - 1.0, 0.0)
+    H = ((math.pi * cc * cc / 2.0 - cc * cc * a / 2.0 - (b - cc * s) / 4.0
+          + (cc * (2.0 * cc * cc - 1.0) * s + b) / 8.0) / math.pi + (max(c, 1.0) ** 2 - 1.0) / 2.0)
+    return F, G, H
+
+
+@jit
+def _wet_fraction(z0, z1, h):
+    """``hydro.wet_fraction`` of one element with axis end heights ``z0``, ``z1`` (m) and its
+    cross-section's vertical half-height ``h`` (m; 0: by the axis alone): (its submerged
+    fraction, the centre of its wet part, 0 at node i to 1 at node i+1)."""
+    if z0 + h <= 0.0 and z1 + h <= 0.0:
+        return 1.0, 0.5
+    if h > 1e-9:
+        if z0 - h >= 0.0 and z1 - h >= 0.0:
+            return 0.0, 0.5
+        c0, c1 = -z0 / h, -z1 / h
+        dc = c1 - c0
+        if abs(dc) < 1e-4:  # (hydro._cut_element)
+            cm = 0.5 * (c0 + c1)
+            F = _disk_wet(cm)[0]
+            if F <= 0.0:
+                return 0.0, 0.5
+            slope = 2.0 * math.sqrt(max(1.0 - cm * cm, 0.0)) / math.pi
+            return F, min(max(0.5 + dc * slope / (12.0 * F), 0.0), 1.0)
+        F0, G0, H0 = _disk_wet(c0)
+        F1, G1, H1 = _disk_wet(c1)
+        G = G1 - G0
+        if G == 0.0:
+            return 0.0, 0.5
+        return min(max(G / dc, 0.0), 1.0), min(max(((H1 - H0) - c0 * G) / (dc * G), 0.0), 1.0)
     lo, hi = min(z0, z1), max(z0, z1)
     span = hi - lo
     if span > 1e-12:
-        return min(max(-lo / span, 0.0), 1.0)
-    return 1.0 if lo <= 0.0 else 0.0
+        frac = min(max(-lo / span, 0.0), 1.0)
+    else:
+        frac = 1.0 if lo <= 0.0 else 0.0
+    return frac, (0.5 * frac if z0 <= z1 else 1.0 - 0.5 * frac)
 
 
 @jit
@@ -201,10 +237,8 @@ def tether_loads(x, v, rest, diameter, cd_normal, cd_tangential, area, cd_area_f
         for j in range(3):
             t[j] *= inv
         # the submerged fraction and the centre of the wet part (hydro.wet_fraction)
-        z0, z1 = x[i, 2], x[i + 1, 2]
-        frac = _wet_fraction(z0, z1)
-        c_low = 0.5 * frac
-        centre[i] = c_low if z0 <= z1 else 1.0 - c_low
+        h = 0.5 * diameter[i] * math.sqrt(max(1.0 - t[2] * t[2], 0.0))
+        frac, centre[i] = _wet_fraction(x[i, 2], x[i + 1, 2], h)
         for j in range(3):
             vrel[j] = u[i, j] - 0.5 * (v[i + 1, j] + v[i, j])
         vt_mag = vrel[0] * t[0] + vrel[1] * t[1] + vrel[2] * t[2]

@@ -9,7 +9,9 @@ one drag kernel of the dynamic tether and the quasi-static solver):
 * tangential drag  F_t = 1/2 rho C_dt pi d l_wet |v_t| v_t,
 * buoyancy         F_b = rho(z) g A l_wet, upwards, acting at the centre of the wetted part,
 
-where l_wet is the submerged part of the element (the cable may cross the surface z = 0).
+where l_wet is the submerged part of the element (the cable may cross the surface z = 0): its
+cylinder's volume under the surface over A (``wet_fraction``), so that a float lying on the
+surface floats at its draft.
 ``loading_function_drag`` is the other drag law a tether may take (``TetherSpec.drag_law``):
 Hong et al.'s (2020, J. Mar. Sci. Eng. 8, 485) Eq. 20-21, one C_d scaled by loading functions of
 the angle between the cable and the flow.
@@ -24,6 +26,8 @@ All inputs and outputs are SI, world frame unless stated.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 
@@ -35,10 +39,34 @@ def element_geometry(x: np.ndarray):
     return e, length, t
 
 
-def wet_fraction(z0: np.ndarray, z1: np.ndarray):
-    """Submerged fraction of straight elements with end heights z0, z1 (m), and the position
-    (0 at node i, 1 at node i+1) of the centre of the wetted part."""
-    if z0.max() <= 0.0 and z1.max() <= 0.0:  # the usual case: the whole line is under water
+def _disk_wet(c):
+    """F(c) = (pi - acos c + c sqrt(1 - c^2)) / pi, the wet fraction of a disk whose centre is
+    c h under the surface (h its vertical half-height; 0 for c <= -1, 1 for c >= 1), and its
+    integrals over c, G and H: dG/dc = F, dH/dc = c F (the wet fraction of the cross-sections of
+    a cylinder cut by the surface, and its first moment, integrated along the axis)."""
+    cc = np.clip(c, -1.0, 1.0)
+    s = np.sqrt(1.0 - cc * cc)
+    a, b = np.arccos(cc), np.arcsin(cc)
+    F = (np.pi - a + cc * s) / np.pi
+    G = (np.pi * cc - cc * a + s - s ** 3 / 3.0) / np.pi + np.maximum(c - 1.0, 0.0)
+    H = (np.pi * cc * cc / 2.0 - cc * cc * a / 2.0 - (b - cc * s) / 4.0
+         + (cc * (2.0 * cc * cc - 1.0) * s + b) / 8.0) / np.pi + (np.maximum(c, 1.0) ** 2 - 1.0) / 2.0
+    return F, G, H
+
+
+def wet_fraction(z0: np.ndarray, z1: np.ndarray, half_height=0.0):
+    """Submerged fraction of straight elements with axis end heights z0, z1 (m), and the position
+    (0 at node i, 1 at node i+1) of the centre of the wetted part.
+
+    ``half_height`` (m, scalar or per element): half the vertical extent of an element's cross
+    section, r sqrt(1 - t_z^2) for a cylinder of radius r along the unit tangent t. Each cross
+    section square to the axis is wet by its circular segment under z = 0 and the element's
+    fraction is their mean along the axis, which is the cylinder's wet volume cut by the surface
+    exactly (end caps aside): a float lying on the surface is buoyed by the part of it that is
+    under water, so it rests at its draft rather than chattering about a step. 0: by the axis
+    alone (the wet length of a line crossing the surface)."""
+    h = np.broadcast_to(np.asarray(half_height, dtype=float), np.shape(z0))
+    if (z0 + h).max() <= 0.0 and (z1 + h).max() <= 0.0:  # the usual case: the whole line is under water
         return np.ones_like(z0), np.full_like(z0, 0.5)
     lo = np.minimum(z0, z1)
     hi = np.maximum(z0, z1)
@@ -49,6 +77,32 @@ def wet_fraction(z0: np.ndarray, z1: np.ndarray):
     # centre of the wet part, measured from the lower end, then mapped to node i -> node i+1
     c_low = 0.5 * frac
     centre = np.where(z0 <= z1, c_low, 1.0 - c_low)
+    # the cross-sections' circular segments, where an element of some width meets the surface
+    cut = (h > 1e-9) & ((z0 + h > 0.0) | (z1 + h > 0.0)) & ((z0 - h < 0.0) | (z1 - h < 0.0))
+    frac = np.where((h > 1e-9) & ~cut, (z0 + h <= 0.0).astype(float), frac)
+    centre = np.where((h > 1e-9) & ~cut, 0.5, centre)
+    for i in np.flatnonzero(cut):
+        frac[i], centre[i] = _cut_element(-z0[i] / h[i], -z1[i] / h[i])
+    return frac, centre
+
+
+def _cut_element(c0: float, c1: float):
+    """(wet fraction, centre of the wet part) of an element whose cross-sections' centres run from
+    c0 h to c1 h under the surface: the mean of F along it and its centroid, from the integrals
+    of ``_disk_wet``; for a nearly level element (|c1 - c0| < 1e-4, where their difference
+    would lose digits) from F at the middle and its slope (error below 3e-7)."""
+    dc = c1 - c0
+    if abs(dc) < 1e-4:
+        cm = 0.5 * (c0 + c1)
+        F = float(_disk_wet(cm)[0])
+        slope = 2.0 * math.sqrt(max(1.0 - cm * cm, 0.0)) / math.pi  # dF/dc
+        return F, (min(max(0.5 + dc * slope / (12.0 * F), 0.0), 1.0) if F > 0.0 else 0.5)
+    _, G0, H0 = (float(a) for a in _disk_wet(c0))
+    _, G1, H1 = (float(a) for a in _disk_wet(c1))
+    G = G1 - G0
+    if G == 0.0:
+        return 0.0, 0.5
+    return min(max(G / dc, 0.0), 1.0), min(max(((H1 - H0) - c0 * G) / (dc * G), 0.0), 1.0)
     return frac, centre
 
 
@@ -159,7 +213,8 @@ def tether_loads(
     """
     _, _, t = element_geometry(x)
     zc = np.minimum(0.5 * (x[1:, 2] + x[:-1, 2]), 0.0)
-    frac, centre = wet_fraction(x[:-1, 2], x[1:, 2])
+    frac, centre = wet_fraction(x[:-1, 2], x[1:, 2], 0.5 * np.asarray(diameter) * np.sqrt(np.maximum(1.0 - t[:, 2] ** 2,
+                                                                                                   0.0)))
     rho = rho_fn(zc)
     vrel = current_fn(zc)
     vrel -= 0.5 * (v[1:] + v[:-1])

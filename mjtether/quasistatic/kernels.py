@@ -19,12 +19,13 @@ def _element_load(z0, t, l_s, l, d, A, mu, cdn, cdt_pi, float_cda, dkind, dp, ck
     (m) along the unit tangent ``t`` for the stretched length ``l_s`` (m); its wet length, the
     water at its centre, Morison drag on the current less ``v_tow``, buoyancy less weight."""
     z1 = z0 + l_s * t[2]
-    if z0 <= 0.0 and z1 <= 0.0:
+    h = 0.5 * d * math.sqrt(max(1.0 - t[2] * t[2], 0.0))  # (the cross-section's vertical half-height)
+    if z0 + h <= 0.0 and z1 + h <= 0.0:
         zc = 0.5 * (z0 + z1)
         l_wet = l
     else:
         zc = min(0.5 * (z0 + z1), 0.0)
-        l_wet = l * _wet_fraction(z0, z1)
+        l_wet = l * _wet_fraction(z0, z1, h)[0]
     depth = max(-min(zc, 0.0), 0.0)
     rho = _density(dkind, dp, depth)
     u0, u1 = _current(ckind, cp, depth)

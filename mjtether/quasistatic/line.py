@@ -122,12 +122,13 @@ class _Cable:
         l, d, A, mu = self.l_e[k], self.d_e[k], self.A_e[k], self.mu_e[k]
         z0 = x0[:, 2]
         z1 = z0 + l_s * t[:, 2]
-        if z0.max() <= 0.0 and z1.max() <= 0.0:  # fully wet, the usual case
+        h = 0.5 * d * np.sqrt(np.maximum(1.0 - t[:, 2] ** 2, 0.0))  # (the cross-sections' vertical half-height)
+        if (z0 + h).max() <= 0.0 and (z1 + h).max() <= 0.0:  # fully wet, the usual case
             zc = 0.5 * (z0 + z1)
             l_wet = l
         else:
             zc = np.minimum(0.5 * (z0 + z1), 0.0)
-            l_wet = l * wet_fraction(z0, z1)[0]
+            l_wet = l * wet_fraction(z0, z1, h)[0]
         rho = self.water.rho(zc)
         u = self.water.velocity(zc) - self.v_tow
         floats = self.float_cda[k] if self.float_cda is not None and self.float_cda[k] > 0.0 else None
