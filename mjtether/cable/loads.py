@@ -13,7 +13,7 @@ import mujoco
 import numpy as np
 
 from mjtether.physics import compiled
-from mjtether.physics.hydro import bending_forces, tether_loads
+from mjtether.physics.hydro import bending_forces, gauss_heights, tether_loads
 
 from .layout import CableLayout
 from .seabed import CONTACT_TOLERANCE, STICK_DAMPING, STICK_STIFFNESS
@@ -39,7 +39,7 @@ def compiled_arrays(layout: CableLayout) -> dict:
                  cd_area_float=mk.element_float_cd_area,
                  bend=(0.5 * (EI[1:] + EI[:-1])) / (0.5 * (rest[1:] + rest[:-1])) if np.any(EI > 0) else None)
         c = {k: (v if v is None else np.ascontiguousarray(v, dtype=float)) for k, v in c.items()}
-    c.update(water=compiled.profile_codes(layout.water), rho=np.empty(n), u=np.empty((n, 3)),
+    c.update(water=compiled.profile_codes(layout.water), rho=np.empty(2 * n), u=np.empty((2 * n, 3)),
              f=np.empty((n + 1, 3)), friction=np.empty((n + 1, 3)), stick=np.empty((n + 1, 3)))
     return c
 
@@ -131,11 +131,11 @@ class CableLoads:
         buffer that the next call overwrites."""
         L, dr = self.layout, self.drum
         c, k, m = L.fast, dr.first, len(x) - 1
-        rho, u, f = c["rho"][:m], c["u"][:m], c["f"][:m + 1]
+        rho, u, f = c["rho"][:2 * m], c["u"][:2 * m], c["f"][:m + 1]
         if c["water"] is None:  # a profile the compiled kernels do not know: its own NumPy code
-            zc = np.minimum(0.5 * (x[1:, 2] + x[:-1, 2]), 0.0)
-            rho[:] = L.water.rho(zc)
-            u[:] = L.water.velocity(zc)
+            zg = np.minimum(gauss_heights(x[:, 2]), 0.0).T.ravel()  # (element i's two at 2i, 2i + 1)
+            rho[:] = L.water.rho(zg)
+            u[:] = L.water.velocity(zg)
         else:
             compiled.element_water(x, *c["water"], rho, u)
         mk = L.makeup

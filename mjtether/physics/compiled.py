@@ -191,26 +191,34 @@ def _current(ckind, cp, depth):
     return speed * math.cos(cp[cp.shape[0] - 1]), speed * math.sin(cp[cp.shape[0] - 1])
 
 
+GAUSS = 0.5 / math.sqrt(3.0)
+"""The two Gauss points of an element lie at 1/2 -+ GAUSS of its length from node i."""
+
+
 @jit
 def element_water(x, dkind, dp, ckind, cp, rho, u):
-    """Density ``rho`` (n,) and current ``u`` (n, 3) at the centres of the elements of the node
-    polyline ``x`` (n+1, 3), at or below the surface (as ``hydro.tether_loads`` takes them)."""
+    """Density ``rho`` (2n,) and current ``u`` (2n, 3) at the two Gauss points of each element
+    of the node polyline ``x`` (n+1, 3) (element i's at 2i and 2i + 1, ``GAUSS``), at or below the
+    surface (as ``hydro.tether_loads`` takes them)."""
     n = x.shape[0] - 1
     if ckind == 4:
         m = cp.shape[0] // 3
     else:  # one heading: its direction once, the last two parameters
         cos, sin = math.cos(cp[cp.shape[0] - 1]), math.sin(cp[cp.shape[0] - 1])
     for i in range(n):
-        depth = max(-min(0.5 * (x[i + 1, 2] + x[i, 2]), 0.0), 0.0)
-        rho[i] = _density(dkind, dp, depth)
-        if ckind == 4:
-            u[i, 0] = _interp(depth, cp[:m], cp[m:2 * m])
-            u[i, 1] = _interp(depth, cp[:m], cp[2 * m:])
-        else:
-            speed = _speed(ckind, cp, depth)
-            u[i, 0] = speed * cos
-            u[i, 1] = speed * sin
-        u[i, 2] = 0.0
+        for g in range(2):
+            s = 0.5 - GAUSS if g == 0 else 0.5 + GAUSS
+            k = 2 * i + g
+            depth = max(-min(x[i, 2] + s * (x[i + 1, 2] - x[i, 2]), 0.0), 0.0)
+            rho[k] = _density(dkind, dp, depth)
+            if ckind == 4:
+                u[k, 0] = _interp(depth, cp[:m], cp[m:2 * m])
+                u[k, 1] = _interp(depth, cp[:m], cp[2 * m:])
+            else:
+                speed = _speed(ckind, cp, depth)
+                u[k, 0] = speed * cos
+                u[k, 1] = speed * sin
+            u[k, 2] = 0.0
 
 
 # --------------------------------------------------------------------------- tether
@@ -221,10 +229,11 @@ def tether_loads(x, v, rest, diameter, cd_normal, cd_tangential, area, cd_area_f
                  first_share, f):
     """``hydro.tether_loads`` into ``f`` (n+1, 3), N: every element property given per element
     (n,): rest length l (m), diameter d (m), C_dn, C_dt, displaced area per metre (m^2) and the
-    floats' extra normal drag area per metre (m^2/m); ``rho`` (n,) and ``u`` (n, 3) at the
-    elements' centres (``element_water``)."""
+    floats' extra normal drag area per metre (m^2/m); ``rho`` (2n,) and ``u`` (2n, 3) at the
+    elements' Gauss points (``element_water``)."""
     n = x.shape[0] - 1
-    half = np.empty((n, 3))
+    near = np.zeros((n, 3))  # (each element's drag on node i, and on node i + 1: the lever rule)
+    far = np.zeros((n, 3))
     fb = np.empty(n)
     centre = np.empty(n)
     t = np.empty(3)
@@ -239,39 +248,45 @@ def tether_loads(x, v, rest, diameter, cd_normal, cd_tangential, area, cd_area_f
         # the submerged fraction and the centre of the wet part (hydro.wet_fraction)
         h = 0.5 * diameter[i] * math.sqrt(max(1.0 - t[2] * t[2], 0.0))
         frac, centre[i] = _wet_fraction(x[i, 2], x[i + 1, 2], h)
-        for j in range(3):
-            vrel[j] = u[i, j] - 0.5 * (v[i + 1, j] + v[i, j])
-        vt_mag = vrel[0] * t[0] + vrel[1] * t[1] + vrel[2] * t[2]
-        vn0 = vrel[0] - vt_mag * t[0]
-        vn1 = vrel[1] - vt_mag * t[1]
-        vn2 = vrel[2] - vt_mag * t[2]
-        vn_mag = math.sqrt(vn0 * vn0 + vn1 * vn1 + vn2 * vn2)
-        q = (0.25 * rest[i] * diameter[i]) * rho[i] * frac
-        kn = q * (cd_normal[i] + cd_area_float[i] / diameter[i]) * vn_mag
-        kt = q * math.pi * cd_tangential[i] * abs(vt_mag)
-        half[i, 0] = vn0 * kn + vt_mag * t[0] * kt
-        half[i, 1] = vn1 * kn + vt_mag * t[1] * kt
-        half[i, 2] = vn2 * kn + vt_mag * t[2] * kt
-        fb[i] = (gravity * area[i] * rest[i]) * rho[i] * frac
+        for g in range(2):  # (the drag at its two Gauss points, each for half its length)
+            s = 0.5 - GAUSS if g == 0 else 0.5 + GAUSS
+            k = 2 * i + g
+            for j in range(3):
+                vrel[j] = u[k, j] - ((1.0 - s) * v[i, j] + s * v[i + 1, j])
+            vt_mag = vrel[0] * t[0] + vrel[1] * t[1] + vrel[2] * t[2]
+            vn0 = vrel[0] - vt_mag * t[0]
+            vn1 = vrel[1] - vt_mag * t[1]
+            vn2 = vrel[2] - vt_mag * t[2]
+            vn_mag = math.sqrt(vn0 * vn0 + vn1 * vn1 + vn2 * vn2)
+            q = (0.25 * rest[i] * diameter[i]) * rho[k] * frac
+            kn = q * (cd_normal[i] + cd_area_float[i] / diameter[i]) * vn_mag
+            kt = q * math.pi * cd_tangential[i] * abs(vt_mag)
+            d0 = vn0 * kn + vt_mag * t[0] * kt
+            d1 = vn1 * kn + vt_mag * t[1] * kt
+            d2 = vn2 * kn + vt_mag * t[2] * kt
+            near[i, 0] += (1.0 - s) * d0
+            near[i, 1] += (1.0 - s) * d1
+            near[i, 2] += (1.0 - s) * d2
+            far[i, 0] += s * d0
+            far[i, 1] += s * d1
+            far[i, 2] += s * d2
+        fb[i] = (gravity * area[i] * rest[i]) * (0.5 * (rho[2 * i] + rho[2 * i + 1])) * frac
     for j in range(3):
         f[n, j] = 0.0
     for i in range(n):
         for j in range(3):
-            f[i, j] = half[i, j]
+            f[i, j] = near[i, j]
     for i in range(n):
         for j in range(3):
-            f[i + 1, j] += half[i, j]
+            f[i + 1, j] += far[i, j]
     for i in range(n):
         f[i, 2] += (1.0 - centre[i]) * fb[i]
     for i in range(n):
         f[i + 1, 2] += centre[i] * fb[i]
-    if first_share != 0.5 and n > 0:  # part of element 0's load from node 0 to node 1
-        for j in range(3):
-            s = (1.0 - 2.0 * first_share) * half[0, j]
-            if j == 2:
-                s += (1.0 - centre[0] - first_share) * fb[0]
-            f[0, j] -= s
-            f[1, j] += s
+    if first_share != 0.5 and n > 0:  # element 0's buoyancy: first_share of it on node 0, the rest on node 1
+        s = (1.0 - centre[0] - first_share) * fb[0]
+        f[0, 2] -= s
+        f[1, 2] += s
 
 
 @jit

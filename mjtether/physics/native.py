@@ -236,7 +236,7 @@ def _tether(mp, dp, table, offs):
         v[0, 0] += s * e0
         v[0, 1] += s * e1
         v[0, 2] += s * e2
-    rho, u, f = np.empty(m), np.empty((m, 3)), np.empty((m + 1, 3))
+    rho, u, f = np.empty(2 * m), np.empty((2 * m, 3)), np.empty((m + 1, 3))
     dp_, cp_ = _vec(table, T_DP), _vec(table, T_CP)
     compiled.element_water(x, I[6], dp_, I[7], cp_, rho, u)
     gravity = P[0]
@@ -294,7 +294,7 @@ def _point_loads(x, v, volume, cda, dkind, dp, ckind, cp, gravity, f):
     for i in range(cda.shape[0]):
         any_cda = any_cda or cda[i] > 0
     one = np.empty((2, 3))
-    rho, u = np.empty(1), np.empty((1, 3))
+    rho, u = np.empty(2), np.empty((2, 3))
     for i in range(x.shape[0]):
         z = min(x[i, 2], 0.0)
         wet = 1.0 if x[i, 2] <= 0.0 else 0.0

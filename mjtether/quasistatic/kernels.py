@@ -10,40 +10,45 @@ import math
 
 import numpy as np
 
-from mjtether.physics.compiled import _current, _density, _wet_fraction, jit
+from mjtether.physics.compiled import GAUSS, _current, _density, _wet_fraction, jit
 
 
 @jit
 def _element_load(z0, t, l_s, l, d, A, mu, cdn, cdt_pi, float_cda, dkind, dp, ckind, cp, v_tow, g, f):
     """``quasistatic.line._Cable.loads`` of one element into ``f`` (3,), N: from height ``z0``
     (m) along the unit tangent ``t`` for the stretched length ``l_s`` (m); its wet length, the
-    water at its centre, Morison drag on the current less ``v_tow``, buoyancy less weight."""
+    water at its two Gauss points (each for half of it), Morison drag on the current less
+    ``v_tow``, buoyancy less weight."""
     z1 = z0 + l_s * t[2]
     h = 0.5 * d * math.sqrt(max(1.0 - t[2] * t[2], 0.0))  # (the cross-section's vertical half-height)
     if z0 + h <= 0.0 and z1 + h <= 0.0:
-        zc = 0.5 * (z0 + z1)
         l_wet = l
     else:
-        zc = min(0.5 * (z0 + z1), 0.0)
         l_wet = l * _wet_fraction(z0, z1, h)[0]
-    depth = max(-min(zc, 0.0), 0.0)
-    rho = _density(dkind, dp, depth)
-    u0, u1 = _current(ckind, cp, depth)
-    u0, u1, u2 = u0 - v_tow[0], u1 - v_tow[1], 0.0 - v_tow[2]
-    ut = u0 * t[0] + u1 * t[1] + u2 * t[2]
-    n0, n1, n2 = u0 - ut * t[0], u1 - ut * t[1], u2 - ut * t[2]
-    q = 0.5 * d * l_wet * rho
-    un_mag = math.sqrt(n0 * n0 + n1 * n1 + n2 * n2)
-    kn = q * cdn * un_mag
-    kt = q * cdt_pi * abs(ut) * ut
-    f[0] = kn * n0 + kt * t[0]
-    f[1] = kn * n1 + kt * t[1]
-    f[2] = kn * n2 + kt * t[2]
-    if float_cda > 0.0:
-        kf = 0.5 * float_cda * l_wet * rho * un_mag
-        f[0] += kf * n0
-        f[1] += kf * n1
-        f[2] += kf * n2
+    f[0] = f[1] = f[2] = 0.0
+    rho_mean = 0.0
+    for gp in range(2):
+        s = 0.5 - GAUSS if gp == 0 else 0.5 + GAUSS
+        depth = max(-min(z0 + s * (z1 - z0), 0.0), 0.0)
+        rho = _density(dkind, dp, depth)
+        rho_mean += 0.5 * rho
+        u0, u1 = _current(ckind, cp, depth)
+        u0, u1, u2 = u0 - v_tow[0], u1 - v_tow[1], 0.0 - v_tow[2]
+        ut = u0 * t[0] + u1 * t[1] + u2 * t[2]
+        n0, n1, n2 = u0 - ut * t[0], u1 - ut * t[1], u2 - ut * t[2]
+        q = 0.25 * d * l_wet * rho
+        un_mag = math.sqrt(n0 * n0 + n1 * n1 + n2 * n2)
+        kn = q * cdn * un_mag
+        kt = q * cdt_pi * abs(ut) * ut
+        f[0] += kn * n0 + kt * t[0]
+        f[1] += kn * n1 + kt * t[1]
+        f[2] += kn * n2 + kt * t[2]
+        if float_cda > 0.0:
+            kf = 0.25 * float_cda * l_wet * rho * un_mag
+            f[0] += kf * n0
+            f[1] += kf * n1
+            f[2] += kf * n2
+    rho = rho_mean
     f[2] += (rho * A * l_wet - mu * l) * g
 
 

@@ -20,7 +20,7 @@ import numpy as np
 from mjtether.cable.makeup import LineMakeup
 from mjtether.cable.tether import TetherSpec
 from mjtether.physics import compiled
-from mjtether.physics.hydro import element_drag, wet_fraction
+from mjtether.physics.hydro import GAUSS_POINTS, element_drag, wet_fraction
 from mjtether.physics.water import WaterColumn
 
 from . import kernels
@@ -124,16 +124,18 @@ class _Cable:
         z1 = z0 + l_s * t[:, 2]
         h = 0.5 * d * np.sqrt(np.maximum(1.0 - t[:, 2] ** 2, 0.0))  # (the cross-sections' vertical half-height)
         if (z0 + h).max() <= 0.0 and (z1 + h).max() <= 0.0:  # fully wet, the usual case
-            zc = 0.5 * (z0 + z1)
             l_wet = l
         else:
-            zc = np.minimum(0.5 * (z0 + z1), 0.0)
             l_wet = l * wet_fraction(z0, z1, h)[0]
-        rho = self.water.rho(zc)
-        u = self.water.velocity(zc) - self.v_tow
         floats = self.float_cda[k] if self.float_cda is not None and self.float_cda[k] > 0.0 else None
-        f = element_drag(self.drag_law, t, u, rho, l_wet, d, self.cdn_e[k], self.cdt_pi_e[k], floats)
-        f[:, 2] += (rho * A * l_wet - mu * l) * self.g
+        f, rho_mean = 0.0, 0.0
+        for s in GAUSS_POINTS:  # (the drag at the element's two Gauss points, each for half of it)
+            zg = np.minimum(z0 + s * (z1 - z0), 0.0)
+            rho = self.water.rho(zg)
+            u = self.water.velocity(zg) - self.v_tow
+            f = f + element_drag(self.drag_law, t, u, rho, 0.5 * l_wet, d, self.cdn_e[k], self.cdt_pi_e[k], floats)
+            rho_mean = rho_mean + 0.5 * rho
+        f[:, 2] += (rho_mean * A * l_wet - mu * l) * self.g
         return f
 
     def node_load(self, x, j):

@@ -403,12 +403,38 @@ def _cascade(tether, water: WaterColumn, v_tow, EA, pb: dict, guess, tol: float,
     return (cable, *_solve_top_force(cable, pb, F, J, tol, max_iterations))
 
 
+CONTINUATION = (0.0, 0.25, 0.5, 0.7, 0.85, 0.95)
+"""The flow speeds, as fractions of the real one, through which ``_drag_continuation`` walks."""
+
+
+def _drag_continuation(tether: TetherSpec, water: WaterColumn, v_tow, EA, pb: dict, tol: float,
+                       max_iterations: int, first_guess):
+    """A starting top force (N) for a line whose solve from ``first_guess`` stalls (a strong
+    surface current: the start sits in a basin Newton and Levenberg-Marquardt cannot leave):
+    the solves with the flow slowed to each fraction a of ``CONTINUATION`` in turn, each started
+    from the one before (drag scales as a^2, so the coefficients do: a still line's drag is
+    that of a^2 C_d in the whole flow), from the line without drag, which always solves."""
+    F = None
+    for a in CONTINUATION:
+        slow = replace(tether, cd_normal=a * a * tether.cd_normal, cd_tangential=a * a * tether.cd_tangential)
+        _, F, *_ = _cascade(slow, water, v_tow, EA, pb, F, tol, max_iterations, first_guess)
+    return F
+
+
 def _straight_state(tether, water, v_tow, EA, pb, guess, tol, max_iterations, vel) -> SteadyState:
     """The two-point solve with any laid part straight (see the module docstring)."""
     seabed_z, contact = pb["seabed_z"], pb["contact"]
-    cable, F, J, shot, r = _cascade(tether, water, v_tow, EA, pb, guess, tol, max_iterations,
-                                    lambda c: _first_guess(c, pb["top"], pb["bottom"], contact, pb["cb"],
-                                                           pb.get("top_contact", False)))
+
+    def first_guess(c):
+        return _first_guess(c, pb["top"], pb["bottom"], contact, pb["cb"], pb.get("top_contact", False))
+
+    try:
+        cable, F, J, shot, r = _cascade(tether, water, v_tow, EA, pb, guess, tol, max_iterations, first_guess)
+    except RuntimeError:
+        if guess is not None or not isinstance(tether, TetherSpec) or tether.cd_normal + tether.cd_tangential == 0:
+            raise
+        F = _drag_continuation(tether, water, v_tow, EA, pb, tol, max_iterations, first_guess)
+        cable, F, J, shot, r = _cascade(tether, water, v_tow, EA, pb, F, tol, max_iterations, first_guess)
     if cable.makeup is not None:
         return _makeup_state(cable, pb, F, J, shot, r, vel)
     X, T, P, td = shot

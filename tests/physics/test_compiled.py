@@ -59,11 +59,11 @@ def test_tether_loads_match_the_numpy_kernel(density, current):
         ref = hydro.tether_loads(x, v, segment_length=rest, diameter=d, cd_normal=cdn, cd_tangential=cdt,
                                  rho_fn=water.rho, current_fn=water.velocity, gravity=water.gravity,
                                  first_share=share, area=area, float_cd_area=cda)
-        rho, u, f = np.empty(n), np.empty((n, 3)), np.full((n + 1, 3), np.nan)
+        rho, u, f = np.empty(2 * n), np.empty((2 * n, 3)), np.full((n + 1, 3), np.nan)
         compiled.element_water(x, *codes, rho, u)
-        zc = np.minimum(0.5 * (x[1:, 2] + x[:-1, 2]), 0.0)
-        close(rho, water.rho(zc))
-        close(u, water.velocity(zc))
+        zg = np.minimum(hydro.gauss_heights(x[:, 2]), 0.0).T.ravel()  # (element i's two Gauss points at 2i, 2i + 1)
+        close(rho, water.rho(zg))
+        close(u, water.velocity(zg))
         compiled.tether_loads(x, v, rest, d, cdn, cdt, area, cda, rho, u, water.gravity, share, f)
         close(f, ref)
 
