@@ -113,11 +113,12 @@ and say which here:
   their gaits' footing); the envs' observations by at most 1.2e-6.
 * issue 30 (the sheared current's convergence): each element's drag is taken at its two Gauss
   points and goes to its nodes by the lever rule (``hydro.GAUSS_POINTS``), in the dynamics and
-  the statics alike. Every run in a current or moving through the water moved: the anchored
-  and vehicle runs by at most 5e-3 of a column's largest value, the walkers by up to 3.9e-2
-  (``walker_ship_follows``: its gait's footing), ``TetherWinch-v0``'s and
-  ``TetheredWalker-v0``'s observations by 6e-3; ``TetheredROV-v0``'s tow force at one step by
-  9 N of 18 (its slack tether's snap, sampled), its rewards by 0.02 of 2.6.
+  the statics alike; while paying out, the element next to the drum's splits its drag half and
+  half. Every run in a current or moving through the water moved: the anchored and vehicle runs
+  by at most 3.8e-3 of an array's largest value (``remus_fibre_payout``), the walkers by up to
+  3.8e-2 (``walker_ship_follows``: its gait's footing), ``TetherWinch-v0``'s and
+  ``TetheredWalker-v0``'s observations by 6e-3 (rewards by 0.21 and 6e-4); ``TetheredROV-v0``'s
+  tow force at one step by 9 N of 18 (its slack tether's snap, sampled), its rewards by 0.02.
 
     python tests/golden.py   # rewrites tests/data/golden_runs.npz
 """

@@ -283,10 +283,19 @@ def tether_loads(x, v, rest, diameter, cd_normal, cd_tangential, area, cd_area_f
         f[i, 2] += (1.0 - centre[i]) * fb[i]
     for i in range(n):
         f[i + 1, 2] += centre[i] * fb[i]
-    if first_share != 0.5 and n > 0:  # element 0's buoyancy: first_share of it on node 0, the rest on node 1
-        s = (1.0 - centre[0] - first_share) * fb[0]
-        f[0, 2] -= s
-        f[1, 2] += s
+    if first_share != 0.5 and n > 0:  # paying out: element 0's load, first_share of it on node 0, the rest on
+        # node 1; element 1's half and half (hydro.tether_loads)
+        for j in range(3):
+            s = near[0, j] - first_share * (near[0, j] + far[0, j])
+            if j == 2:
+                s += (1.0 - centre[0] - first_share) * fb[0]
+            f[0, j] -= s
+            f[1, j] += s
+        if n > 1:
+            for j in range(3):
+                s = near[1, j] - 0.5 * (near[1, j] + far[1, j])
+                f[1, j] -= s
+                f[2, j] += s
 
 
 @jit

@@ -218,11 +218,11 @@ def tether_loads(
         segment_length: unstretched element length l (m), or one per element; loads scale with
             the material length, not the stretched one.
         rho_fn(z) -> rho (kg/m^3), current_fn(z) -> u (m/s, shape z.shape + (3,)).
-        first_share: the part of the first element's buoyancy that goes to node 0 (the rest to
-            node 1), as its mass does (the drum element at a fairlead, ``cable.drum.Drum.update``:
-            its wet weight stays where its mass is); 0.5: by the lever rule, as every other
-            element. Drag goes by the lever rule on every element, the drum's too, so that
-            nothing in it jumps when the drum releases a node.
+        first_share: the part of the first element's load that goes to node 0 (the rest to
+            node 1), as its mass does (the drum element at a fairlead, ``cable.drum.Drum.update``);
+            0.5: by the lever rule, as every other element. While it is not 0.5 (paying out),
+            element 1 splits its drag half and half, as its mass is split, so that a node
+            released from the drum takes its drag as it takes its mass.
         diameter, cd_normal, cd_tangential: scalars, or one per element (a line make-up).
         area: displaced volume per metre of each element (m^2) if not pi d^2 / 4 (floats on it).
         float_cd_area: extra normal drag area per metre of each element (m^2/m: floats), or None.
@@ -251,10 +251,16 @@ def tether_loads(
     f[1:] += far
     f[:-1, 2] += (1.0 - centre) * fb
     f[1:, 2] += centre * fb
-    if first_share != 0.5:  # element 0's buoyancy: first_share of it on node 0, the rest on node 1
-        shift = (1.0 - centre[0] - first_share) * fb[0]
-        f[0, 2] -= shift
-        f[1, 2] += shift
+    if first_share != 0.5:  # paying out: element 0's load, first_share of it on node 0 and the rest on node 1;
+        # element 1's half and half, as the drum element's mass and its own are lumped
+        shift = near[0] - first_share * (near[0] + far[0])
+        shift[2] += (1.0 - centre[0] - first_share) * fb[0]
+        f[0] -= shift
+        f[1] += shift
+        if len(x) > 2:
+            shift = near[1] - 0.5 * (near[1] + far[1])
+            f[1] -= shift
+            f[2] += shift
     return f
 
 

@@ -3,7 +3,8 @@
 
 ``_Cable`` holds the line's properties per element (length, EA, diameter, area, mass per metre,
 drag coefficients, distributed floats) and per node (point loads), the elements' loads (wet
-weight and Morison drag on the relative velocity at the element's centre; weight, buoyancy and
+weight and Morison drag on the relative velocity at the element's two Gauss points, as the
+dynamic tether takes it (``hydro.GAUSS_POINTS``); weight, buoyancy and
 drag of the point loads) and the march of the elements from a node and a force
 (``march``; its compiled twin is ``kernels.steady_march``). The method is in the docstring of
 ``steady``.

@@ -70,21 +70,23 @@ def test_rigid_body_drag_per_body_axis():
     np.testing.assert_allclose(tq, 0)
 
 
-def test_first_share_moves_the_first_elements_buoyancy_only():
-    """``first_share`` (the drum element's lumping) gives node 0 that part of element 0's
-    buoyancy and node 1 the rest, as the element's mass is lumped; its drag stays on the lever
-    rule, as every element's: the total is unchanged to 1e-12, the other nodes' loads and node
-    0's horizontal load are the lever-rule ones, and node 0 holds 0.1 of the element's buoyancy
-    rho g A l (it is wholly wet) where the lever rule gives it half."""
-    x = np.array([[0, 0, -5.0], [1.5, 0, -6.0], [3, 0, -8.0], [4, 1, -9.0]])
-    v = np.array([[0, 0, 0], [0.2, 0, -0.1], [0.1, 0.3, 0], [0, 0, 0.2]])
+def test_first_share_moves_the_first_elements_load_and_halves_the_seconds():
+    """``first_share`` (the drum element's lumping, while paying out) gives node 0 that part of
+    element 0's load (drag and buoyancy) and node 1 the rest, and splits element 1's drag half and
+    half, as the two elements' masses are lumped; every other element keeps the lever rule. The
+    total is unchanged to 1e-12, the nodes past element 1 keep their lever-rule loads, node 0
+    holds 0.1 of element 0's load (worked out from element 0 alone) and node 2 half of element
+    1's (from element 1 alone, less the lever rule's share)."""
+    x = np.array([[0, 0, -5.0], [1.5, 0, -6.0], [3, 0, -8.0], [4, 1, -9.0], [5, 1, -10.0]])
+    v = np.array([[0, 0, 0], [0.2, 0, -0.1], [0.1, 0.3, 0], [0, 0, 0.2], [0.1, 0.1, 0.1]])
     lever = loads(x, v, [0.5, 0.2, 0])
     share = loads(x, v, [0.5, 0.2, 0], first_share=0.1)
     np.testing.assert_allclose(share.sum(axis=0), lever.sum(axis=0), rtol=1e-12)
-    np.testing.assert_allclose(share[2:], lever[2:], rtol=1e-12)
-    np.testing.assert_allclose(share[0, :2], lever[0, :2], rtol=1e-12)
-    buoyancy = RHO * 9.81 * np.pi * 0.01 ** 2 * np.linalg.norm(x[1] - x[0])
-    assert share[0, 2] - lever[0, 2] == pytest.approx((0.1 - 0.5) * buoyancy, rel=1e-12)
+    np.testing.assert_allclose(share[3:], lever[3:], rtol=1e-12)
+    element0 = loads(x[:2], v[:2], [0.5, 0.2, 0], segment_length=np.linalg.norm(x[1] - x[0]))
+    np.testing.assert_allclose(share[0], 0.1 * element0.sum(axis=0), rtol=1e-12)
+    element1 = loads(x[1:3], v[1:3], [0.5, 0.2, 0], segment_length=np.linalg.norm(x[1] - x[0]))
+    np.testing.assert_allclose(share[2] - lever[2], element1[0] - 0.5 * element1.sum(axis=0), rtol=1e-9, atol=1e-12)
 
 
 def test_loading_function_drag_at_its_ends_and_between():
