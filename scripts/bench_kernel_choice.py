@@ -67,9 +67,46 @@ void set_params(int n_, int vertadr_, int dof0_, const double *rest_, const doub
   f = work;
 }
 
+/* compiled._disk_wet: F, G, H of c */
+static void disk_wet(double c, double *F, double *G, double *H) {
+  double cc = c < -1 ? -1 : (c > 1 ? 1 : c), s = sqrt(1.0 - cc * cc), a = acos(cc), b = asin(cc);
+  double cm = c > 1 ? c : 1.0;
+  *F = (M_PI - a + cc * s) / M_PI;
+  *G = (M_PI * cc - cc * a + s - s * s * s / 3.0) / M_PI + (c - 1.0 > 0 ? c - 1.0 : 0.0);
+  *H = (M_PI * cc * cc / 2.0 - cc * cc * a / 2.0 - (b - cc * s) / 4.0 + (cc * (2.0 * cc * cc - 1.0) * s + b) / 8.0) / M_PI
+       + (cm * cm - 1.0) / 2.0;
+}
+
+/* compiled._wet_fraction: the element's wet fraction and the centre of its wet part */
+static void wet_fraction(double z0, double z1, double h, double *frac, double *centre) {
+  if (z0 + h <= 0.0 && z1 + h <= 0.0) { *frac = 1.0; *centre = 0.5; return; }
+  if (h > 1e-9) {
+    if (z0 - h >= 0.0 && z1 - h >= 0.0) { *frac = 0.0; *centre = 0.5; return; }
+    double c0 = -z0 / h, c1 = -z1 / h, dc = c1 - c0, F0, G0, H0, F1, G1, H1;
+    if (fabs(dc) < 1e-4) {
+      double cm = 0.5 * (c0 + c1), F, G, H;
+      disk_wet(cm, &F, &G, &H);
+      if (F <= 0.0) { *frac = 0.0; *centre = 0.5; return; }
+      double slope = 2.0 * sqrt(1.0 - cm * cm > 0 ? 1.0 - cm * cm : 0.0) / M_PI, mid = 0.5 + dc * slope / (12.0 * F);
+      *frac = F; *centre = mid < 0 ? 0 : (mid > 1 ? 1 : mid); return;
+    }
+    disk_wet(c0, &F0, &G0, &H0);
+    disk_wet(c1, &F1, &G1, &H1);
+    double G = G1 - G0;
+    if (G == 0.0) { *frac = 0.0; *centre = 0.5; return; }
+    double fr = G / dc, mid = ((H1 - H0) - c0 * G) / (dc * G);
+    *frac = fr < 0 ? 0 : (fr > 1 ? 1 : fr); *centre = mid < 0 ? 0 : (mid > 1 ? 1 : mid); return;
+  }
+  double lo = z0 < z1 ? z0 : z1, hi = z0 < z1 ? z1 : z0, span = hi - lo, fr;
+  if (span > 1e-12) { fr = -lo / span; fr = fr < 0 ? 0 : (fr > 1 ? 1 : fr); }
+  else fr = lo <= 0.0 ? 1.0 : 0.0;
+  *frac = fr; *centre = z0 <= z1 ? 0.5 * fr : 1.0 - 0.5 * fr;
+}
+
 void passive(const mjModel *m, mjData *d) {
   const double *x = d->flexvert_xpos + 3 * vertadr;
   const double *v = d->qvel + dof0;
+  const double gauss = 0.5 / sqrt(3.0);
   for (int j = 0; j < 3 * (n + 1); j++) f[j] = 0.0;
   for (int i = 0; i < n; i++) {
     const double *a = x + 3 * i, *b = x + 3 * (i + 1);
@@ -77,33 +114,40 @@ void passive(const mjModel *m, mjData *d) {
     double len = sqrt(t[0] * t[0] + t[1] * t[1] + t[2] * t[2]);
     double inv = 1.0 / (len > 1e-12 ? len : 1e-12);
     t[0] *= inv; t[1] *= inv; t[2] *= inv;
-    double z0 = a[2], z1 = b[2], lo = z0 < z1 ? z0 : z1, hi = z0 < z1 ? z1 : z0, span = hi - lo, frac;
-    if (span > 1e-12) { frac = -lo / span; frac = frac < 0 ? 0 : (frac > 1 ? 1 : frac); }
-    else frac = lo <= 0.0 ? 1.0 : 0.0;
-    double c_low = 0.5 * frac, centre = z0 <= z1 ? c_low : 1.0 - c_low;
-    double zc = 0.5 * (z0 + z1); zc = zc < 0 ? zc : 0;
-    double depth = -zc > 0 ? -zc : 0;
-    double rho = rho0 + drho * depth, speed = u0 * exp(-depth / decay);
-    double vr[3] = {speed * ch - 0.5 * (v[3 * i] + v[3 * i + 3]), speed * sh - 0.5 * (v[3 * i + 1] + v[3 * i + 4]),
-                    -0.5 * (v[3 * i + 2] + v[3 * i + 5])};
-    double vt = vr[0] * t[0] + vr[1] * t[1] + vr[2] * t[2];
-    double vn[3] = {vr[0] - vt * t[0], vr[1] - vt * t[1], vr[2] - vt * t[2]};
-    double vn_mag = sqrt(vn[0] * vn[0] + vn[1] * vn[1] + vn[2] * vn[2]);
-    double q = (0.25 * rest[i] * diam[i]) * rho * frac;
-    double kn = q * cdn[i] * vn_mag, kt = q * M_PI * cdt[i] * fabs(vt);
-    double fb = (g * area[i] * rest[i]) * rho * frac;
-    for (int j = 0; j < 3; j++) {
-      double h = vn[j] * kn + vt * t[j] * kt;
-      f[3 * i + j] += h;
-      f[3 * i + 3 + j] += h;
-      if (i == 0 && share != 0.5) {  /* the fairlead node's share of the drum element */
-        double s = (1.0 - 2.0 * share) * h + (j == 2 ? (1.0 - centre - share) * fb : 0.0);
-        f[j] -= s;
-        f[3 + j] += s;
+    double frac, centre, hh = 0.5 * diam[i] * sqrt(1.0 - t[2] * t[2] > 0 ? 1.0 - t[2] * t[2] : 0.0);
+    wet_fraction(a[2], b[2], hh, &frac, &centre);
+    double near[3] = {0, 0, 0}, far[3] = {0, 0, 0}, rho_mean = 0.0;
+    for (int gp = 0; gp < 2; gp++) {  /* the drag at its two Gauss points, by the lever rule */
+      double s = gp == 0 ? 0.5 - gauss : 0.5 + gauss;
+      double zg = a[2] + s * (b[2] - a[2]), depth = zg < 0 ? -zg : 0;
+      double rho = rho0 + drho * depth, speed = u0 * exp(-depth / decay);
+      rho_mean += 0.5 * rho;
+      double vr[3] = {speed * ch - ((1 - s) * v[3 * i] + s * v[3 * i + 3]),
+                      speed * sh - ((1 - s) * v[3 * i + 1] + s * v[3 * i + 4]),
+                      -((1 - s) * v[3 * i + 2] + s * v[3 * i + 5])};
+      double vt = vr[0] * t[0] + vr[1] * t[1] + vr[2] * t[2];
+      double vn[3] = {vr[0] - vt * t[0], vr[1] - vt * t[1], vr[2] - vt * t[2]};
+      double vn_mag = sqrt(vn[0] * vn[0] + vn[1] * vn[1] + vn[2] * vn[2]);
+      double q = (0.25 * rest[i] * diam[i]) * rho * frac;
+      double kn = q * cdn[i] * vn_mag, kt = q * M_PI * cdt[i] * fabs(vt);
+      for (int j = 0; j < 3; j++) {
+        double dj = vn[j] * kn + vt * t[j] * kt;
+        near[j] += (1 - s) * dj;
+        far[j] += s * dj;
       }
     }
-    f[3 * i + 2] += (1.0 - centre) * fb;
-    f[3 * i + 5] += centre * fb;
+    double fb = (g * area[i] * rest[i]) * rho_mean * frac, lever = 1.0 - centre;
+    if (share != 0.5 && i < 2) {  /* paying out: the drum element's load by the fairlead's share, the next half and half */
+      double part = i == 0 ? share : 0.5;
+      for (int j = 0; j < 3; j++) { double tot = near[j] + far[j]; near[j] = part * tot; far[j] = tot - near[j]; }
+      if (i == 0) lever = share;
+    }
+    for (int j = 0; j < 3; j++) {
+      f[3 * i + j] += near[j];
+      f[3 * i + 3 + j] += far[j];
+    }
+    f[3 * i + 2] += lever * fb;
+    f[3 * i + 5] += (1.0 - lever) * fb;
   }
   for (int j = 0; j < 3 * (n + 1); j++) d->qfrc_passive[dof0 + j] += f[j];
 }
