@@ -107,7 +107,6 @@ def _cut_element(c0: float, c1: float):
     if G == 0.0:
         return 0.0, 0.5
     return min(max(G / dc, 0.0), 1.0), min(max(((H1 - H0) - c0 * G) / (dc * G), 0.0), 1.0)
-    return frac, centre
 
 
 def morison_drag(t: np.ndarray, u: np.ndarray, rho, l_wet, diameter, cd_normal, cd_tangential_pi,
