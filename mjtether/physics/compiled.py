@@ -33,6 +33,7 @@ import numpy as np
 
 from mjtether.physics import jitcache
 from mjtether.physics import water as _water
+from mjtether.physics.hydro import GAUSS  # (an element's Gauss points lie at 1/2 -+ GAUSS of its length)
 
 try:  # numba is a dependency; the NumPy kernels still run where it cannot be imported
     import numba
@@ -191,8 +192,6 @@ def _current(ckind, cp, depth):
     return speed * math.cos(cp[cp.shape[0] - 1]), speed * math.sin(cp[cp.shape[0] - 1])
 
 
-GAUSS = 0.5 / math.sqrt(3.0)
-"""The two Gauss points of an element lie at 1/2 -+ GAUSS of its length from node i."""
 
 
 @jit

@@ -182,7 +182,8 @@ def element_drag(drag_law: str, t, u, rho, l_wet, diameter, cd_normal, cd_tangen
     return morison_drag(t, u, rho, l_wet, diameter, cd_normal, cd_tangential_pi, float_cd_area)
 
 
-GAUSS_POINTS = (0.5 - 0.5 / math.sqrt(3.0), 0.5 + 0.5 / math.sqrt(3.0))
+GAUSS = 0.5 / math.sqrt(3.0)
+GAUSS_POINTS = (0.5 - GAUSS, 0.5 + GAUSS)
 """Where along an element (0 at node i, 1 at node i+1) its drag is taken: the two-point Gauss
 rule, exact for loads that vary along it as a cubic (a current sheared over a few elements'
 length: the midpoint rule missed l^2 (2/d)^2 / 24 of a drag decaying as exp(2 z / d))."""
