@@ -235,29 +235,41 @@ def slope_quat(slope: float, slope_heading: float) -> list:
 
 def add_seabed(spec: mujoco.MjSpec, water: WaterColumn, *, friction: float = 0.6, size: float = 0.0,
                rgba=(0.45, 0.4, 0.3, 1.0), name: str = "seabed", slope: float = 0.0,
-               slope_heading: float = 0.0, point=None) -> mujoco.MjsGeom:
+               slope_heading: float = 0.0, point=None, lower: float = 0.0,
+               bits: tuple[int, int] = (ROBOT_CONTACT_BIT, ROBOT_CONTACT_BIT | TETHER_CONTACT_BIT)
+               ) -> mujoco.MjsGeom:
     """The seabed: a plane through z = -water.depth at the origin (or through ``point``, m),
     tilted by ``slope`` (rad, in [0, 45 deg)) so that it rises towards ``slope_heading`` (see
     ``seabed_height``). Robots (contype bit 1) and tethers built with ``seabed_friction`` (bit 2)
-    rest on it. ``size`` is the half-width drawn (0: infinite)."""
+    rest on it. ``size`` is the half-width drawn (0: infinite). ``lower`` (m) moves the plane
+    that far along its normal into the ground, and ``bits`` are its (contype, conaffinity): a
+    copy that only one tether touches (see ``add_tether``'s ``contact_bit``)."""
     if not isinstance(water, WaterColumn):
         raise ValueError(f"water must be a WaterColumn, got {type(water).__name__}")
     _checks.non_negative("seabed.friction", friction)
     _checks.in_range("seabed.slope", slope, 0.0, math.radians(45.0) - 1e-9, "rad")
     _checks.finite("seabed.slope_heading", slope_heading)
-    pos = [0.0, 0.0, water.seabed_z] if point is None else [float(v) for v in point]
+    pos = np.array([0.0, 0.0, water.seabed_z] if point is None else [float(v) for v in point])
+    quat = slope_quat(slope, slope_heading)
+    if lower:
+        R = np.zeros(9)
+        mujoco.mju_quat2Mat(R, np.array(quat))
+        pos = pos - lower * R.reshape(3, 3)[:, 2]
     return spec.worldbody.add_geom(
-        name=name, type=mujoco.mjtGeom.mjGEOM_PLANE, pos=pos, quat=slope_quat(slope, slope_heading),
+        name=name, type=mujoco.mjtGeom.mjGEOM_PLANE, pos=pos.tolist(), quat=quat,
         size=[size, size, 1.0], friction=[float(friction), 0.005, 0.0001], rgba=list(rgba),
-        contype=ROBOT_CONTACT_BIT, conaffinity=ROBOT_CONTACT_BIT | TETHER_CONTACT_BIT, condim=3)
+        contype=bits[0], conaffinity=bits[1], condim=3)
 
 
 def add_seabed_grid(spec: mujoco.MjSpec, bathymetry, *, friction: float = 0.6, rgba=(0.45, 0.4, 0.3, 1.0),
-                    name: str = "seabed", base: float = 1.0) -> mujoco.MjsGeom:
+                    name: str = "seabed", base: float = 1.0, lower: float = 0.0,
+                    bits: tuple[int, int] = (ROBOT_CONTACT_BIT, ROBOT_CONTACT_BIT | TETHER_CONTACT_BIT)
+                    ) -> mujoco.MjsGeom:
     """The seabed as a MuJoCo height field over ``bathymetry`` (``physics.bathymetry.Bathymetry``):
     its grid nodes are the field's (rows along y, columns along x), a solid ``base`` m thick
     under its lowest point. Robots and tethers rest on it as on ``add_seabed``'s plane; outside
-    the grid there is no seabed."""
+    the grid there is no seabed. ``lower`` (m) moves it down and ``bits`` are its (contype,
+    conaffinity), as for ``add_seabed``."""
     _checks.non_negative("seabed.friction", friction)
     b = bathymetry
     zmin, zrange = float(b.z.min()), max(float(np.ptp(b.z)), 1e-6)
@@ -265,9 +277,9 @@ def add_seabed_grid(spec: mujoco.MjSpec, bathymetry, *, friction: float = 0.6, r
     spec.add_hfield(name=name, size=[(x1 - x0) / 2, (y1 - y0) / 2, zrange, base], nrow=len(b.y), ncol=len(b.x),
                     userdata=((b.z - zmin) / zrange).ravel().tolist())
     return spec.worldbody.add_geom(
-        name=name, type=mujoco.mjtGeom.mjGEOM_HFIELD, hfieldname=name, pos=[(x0 + x1) / 2, (y0 + y1) / 2, zmin],
-        friction=[float(friction), 0.005, 0.0001], rgba=list(rgba),
-        contype=ROBOT_CONTACT_BIT, conaffinity=ROBOT_CONTACT_BIT | TETHER_CONTACT_BIT, condim=3)
+        name=name, type=mujoco.mjtGeom.mjGEOM_HFIELD, hfieldname=name,
+        pos=[(x0 + x1) / 2, (y0 + y1) / 2, zmin - lower], friction=[float(friction), 0.005, 0.0001],
+        rgba=list(rgba), contype=bits[0], conaffinity=bits[1], condim=3)
 
 
 def grid_of(model: mujoco.MjModel, geom: int):
@@ -357,20 +369,48 @@ def _reference_spec(makeup: LineMakeup) -> TetherSpec:
                       mass_per_length=float(np.average(mu, weights=makeup.element_length)))
 
 
-CONTACT_K_DT2 = 8.0
-CONTACT_B_DT = 8.0
-"""Largest k dt^2 and b dt of a seabed contact given as MoorDyn's kBot, cBot (k, b per kg of
-cable, solref = (-k, -b)): measured on a 30 mm, 3000 kg/m^3 line lowered onto the seabed at 5 ms,
-stable up to k dt^2 = 10 and b dt = 10.5, diverging at 26 and 13; these keep a margin."""
+CONTACT_B_DT = 1.0
+"""Largest b dt of a seabed contact given as MoorDyn's kBot, cBot (k, b per kg of cable,
+``solref = (-k, -b)``). MuJoCo takes a contact's reference acceleration -b v - k r at the start
+of the step, so over a step a landing node's speed v becomes (1 - b dt) v - k dt r: beyond
+b dt = 1 the contact throws the node back out faster than it came, gaining energy beyond 2
+(measured, a ball landing at 1 m/s on such a contact at implicitfast: out at 2.9 m/s at b dt =
+1.5, 36 m/s at 6.9, which MoorDyn's default cBot made of a neutral 0.1 m line at 1.8 ms). A
+damping beyond this is taken as CONTACT_B_DT / dt: a landing node stops in the step it lands.
+(MoorDyn's default kBot and cBot are over-critical on the usual cables, b / (2 sqrt(k)) = 2.1 on
+a 390 kg/m chain and 10 on a neutral 0.1 m line: they stop it too, in MoorDyn's own small
+steps.)"""
+CONTACT_K_DT2 = 0.1
+"""Largest k dt^2 of that contact (see CONTACT_B_DT): at b dt = 1 a landing node leaves again at
+about k dt^2 of its landing speed (measured: 0.01, 0.05, 0.10, 0.26, 1.02 of it at k dt^2 =
+0.01, 0.05, 0.1, 0.25, 1), so a tenth at most."""
 
 
 def seabed_contact(tether: TetherSpec, rho: float, stiffness: float, damping: float) -> tuple[float, float, float]:
     """MoorDyn's seabed contact, kBot ``stiffness`` (Pa/m) and cBot ``damping`` (Pa s/m) on the
     cable's projected area d l, per kg of an element with its added mass in water of density
-    ``rho``: (k 1/s^2, b 1/s, the longest step MuJoCo's contact takes with them, s)."""
+    ``rho``: (k 1/s^2, b 1/s, the longest step MuJoCo's contact takes with them, s: that of k;
+    b is capped at CONTACT_B_DT / dt by ``contact_damping``)."""
     per_kg = tether.diameter / (tether.mu + tether.ca_normal * rho * tether.area)  # (d l) / (m l)
     k, b = stiffness * per_kg, max(damping * per_kg, 1e-9)
-    return k, b, min(CONTACT_B_DT / b, math.sqrt(CONTACT_K_DT2 / k))
+    return k, b, math.sqrt(CONTACT_K_DT2 / k)
+
+
+def seabed_timestep(tether, rho: float, stiffness: float) -> float:
+    """The longest step (s) MuJoCo's contact takes with MoorDyn's kBot ``stiffness`` (Pa/m) under
+    ``tether`` (a TetherSpec or a LineMakeup: its widest section, its mean mass) in water of
+    density ``rho`` (kg/m^3): k dt^2 = CONTACT_K_DT2, to 3 figures, rounded down (the step
+    shown works)."""
+    if isinstance(tether, LineMakeup):
+        tether = _reference_spec(tether)
+    dt_max = seabed_contact(tether, rho, stiffness, 0.0)[2]
+    scale = 10.0 ** (math.floor(math.log10(dt_max)) - 2)
+    return math.floor(dt_max / scale) * scale
+
+
+def contact_damping(b: float, dt: float) -> float:
+    """The contact damping (1/s per kg) a step of ``dt`` s takes: ``b``, at most CONTACT_B_DT / dt."""
+    return min(b, CONTACT_B_DT / dt)
 
 
 def drum_capacity(tether: TetherSpec, max_length: float | None) -> int:
@@ -390,11 +430,11 @@ PARTS_KEPT = 64
 
 @functools.lru_cache(maxsize=PARTS_KEPT)
 def cable_parts(n: int, first: int, diameter: float, rgba: tuple, solref: tuple | None,
-                added_mass: str, contact_radius: float | None = None) -> mujoco.MjSpec:
+                added_mass: str, contact_bit: int = TETHER_CONTACT_BIT) -> mujoco.MjSpec:
     """A spec holding a tether's own parts, named without its prefix (see ``add_tether``): n + 1
     node bodies with three world slide joints and a site each (at the origin, mass unset), the
-    1-D flex through them (``diameter`` m, its seabed contact ``solref``, None for none, at
-    ``contact_radius`` from the axis, default half the diameter), element
+    1-D flex through them (``diameter`` m, its seabed contact ``solref``, None for none, with
+    the geoms whose conaffinity has ``contact_bit``), element
     j's tendon and equality (active for j >= ``first``), and for ``added_mass="normal"`` two
     fixed tendons per node. Kept per layout (do not change the returned spec: copy it)."""
     parts = mujoco.MjSpec()
@@ -407,8 +447,7 @@ def cable_parts(n: int, first: int, diameter: float, rgba: tuple, solref: tuple 
             b.add_joint(name=f"{bname}/{axis}", type=mujoco.mjtJoint.mjJNT_SLIDE, axis=ax)
         b.add_site(name=bname, size=[diameter] * 3)
 
-    radius = diameter / 2 if contact_radius is None else contact_radius
-    flex = parts.add_flex(name=_FLEX, dim=1, radius=radius, rgba=list(rgba))
+    flex = parts.add_flex(name=_FLEX, dim=1, radius=diameter / 2, rgba=list(rgba))
     flex.vertbody = body_names
     flex.vert = [0.0] * (3 * (n + 1))
     flex.elem = [k for i in range(n) for k in (i, i + 1)]
@@ -416,8 +455,8 @@ def cable_parts(n: int, first: int, diameter: float, rgba: tuple, solref: tuple 
     if solref is None:  # no contact at all
         flex.contype = 0
         flex.conaffinity = 0
-    else:  # touches only geoms with the seabed bit in their conaffinity (see add_seabed)
-        flex.contype = TETHER_CONTACT_BIT
+    else:  # touches only geoms with its bit in their conaffinity (see add_seabed)
+        flex.contype = contact_bit
         flex.conaffinity = 0
         # the contact carries the normal force only; friction is mjtether.cable.seabed's stick-point
         # Coulomb model (MuJoCo's soft friction creeps under a steady load), applied by
@@ -467,7 +506,7 @@ def add_tether(
     end_at=None,
     added_mass: str | None = None,
     start_at=None,
-    rest_on_axis: bool = False,
+    contact_bit: int = TETHER_CONTACT_BIT,
 ) -> TetherModel:
     """Add ``tether`` to ``spec`` between ``start`` (the ship end, where its drum is) and ``end``.
 
@@ -483,7 +522,8 @@ def add_tether(
         seabed_stiffness, seabed_damping: the seabed's normal contact as MoorDyn gives it, a
             pressure per metre of penetration (Pa/m, kBot) and per m/s of penetration speed
             (Pa s/m, cBot) on the cable's projected area d l, mapped onto the contact's
-            ``solref = (-k, -b)`` per unit of an element's mass (with its added mass);
+            ``solref = (-k, -b)`` per unit of an element's mass (with its added mass), b at
+            most 1/dt (``CONTACT_B_DT``: more would throw landing nodes back out);
             ``None`` (default): MuJoCo's soft contact with a time constant of two steps.
         max_length: the longest deployed length (m) a winch may pay out to; cable beyond
             ``tether.length`` waits on the drum at ``start`` (see the module docstring).
@@ -494,9 +534,13 @@ def add_tether(
         added_mass: ``"isotropic"`` or ``"normal"`` (see ``TetherSpec.added_mass`` and the module
             docstring); default: the tether's (``"isotropic"`` for a line make-up).
         start_at: as ``end_at``, for the start support (a vessel turned after compiling).
-        rest_on_axis: the cable rests on the seabed with its axis on it, as MoorDyn's nodes do
-            (its contact capsule is then of negligible radius); default: with its surface on it,
-            the axis one radius above the seabed.
+        contact_bit: the contype of the cable's contact, which touches the geoms with that bit
+            in their conaffinity (default: the seabed of ``add_seabed``). A cable rests with its
+            surface on what it touches, its axis one radius above it; to rest it on its axis, as
+            MoorDyn's nodes do, give it a copy of the seabed lowered by its radius, with a bit of
+            its own (``add_seabed``'s ``lower`` and ``bits``). (Not by a contact capsule of no
+            radius: on a height field, where its cells' prisms meet, such a capsule finds the
+            nearest way out sideways, through the neighbouring prism's wall, and sinks.)
 
     The cable's own parts are made once per layout (``cable_parts``: element count, drum
     capacity, diameter, contact, added mass) and copied into ``spec`` under the prefix
@@ -560,24 +604,22 @@ def add_tether(
         _checks.positive("seabed_stiffness", seabed_stiffness, "Pa/m")
         _checks.non_negative("seabed_damping", seabed_damping, "Pa s/m")
         rho = 1025.0 if water is None else float(water.rho([water.seabed_z])[0])
-        k, b, dt_max = seabed_contact(tether, rho, seabed_stiffness, seabed_damping)
-        scale = 10.0 ** (math.floor(math.log10(dt_max)) - 2)
-        dt_max = math.floor(dt_max / scale) * scale  # (3 figures, rounded down: the step shown works)
+        k, b, _ = seabed_contact(tether, rho, seabed_stiffness, seabed_damping)
+        dt_max = seabed_timestep(tether, rho, seabed_stiffness)
         if dt > dt_max * (1 + 1e-12):
             raise ValueError(
-                f"water.seabed_stiffness = {seabed_stiffness:g} Pa/m and water.seabed_damping = "
-                f"{seabed_damping:g} Pa s/m on this cable (d {tether.diameter:g} m, {tether.mu:g} kg/m) need a "
-                f"time step of at most {dt_max:.3g} s, not {dt:g} s: per kg of cable they are {k:.3g} 1/s^2 and "
-                f"{b:.3g} 1/s, and MuJoCo's contact diverges beyond k dt^2 = {CONTACT_K_DT2:g} or b dt = "
-                f"{CONTACT_B_DT:g}; take a shorter step or a softer seabed")
-        solref = (-k, -b)
+                f"water.seabed_stiffness = {seabed_stiffness:g} Pa/m on this cable (d {tether.diameter:g} m, "
+                f"{tether.mu:g} kg/m) needs a time step of at most {dt_max:.3g} s, not {dt:g} s: per kg of "
+                f"cable it is {k:.3g} 1/s^2, and MuJoCo's contact throws a landing node back out beyond k dt^2 = "
+                f"{CONTACT_K_DT2:g}; take a shorter step or a softer seabed")
+        solref = (-k, -contact_damping(b, dt))
 
     # the cable's own bodies, joints, flex, tendons and equalities: a copy of the parts for this
     # layout (kept: an environment's resets differ in positions and masses only), placed and
     # weighed, attached under the name prefix; masses of the deployed cable (nodes on the drum
     # get an interior node's: they are parked)
     parts = cable_parts(n, first, float(tether.diameter), tuple(float(c) for c in rgba), solref, added_mass,
-                        1e-6 * float(tether.diameter) if rest_on_axis else None).copy()
+                        contact_bit).copy()
     m_el = tether.mu * l0
     inertia = [1e-6 * m_el * l0 * l0 + 1e-12] * 3
     for b, x in zip(parts.bodies[1:], all_nodes):  # (bodies[0] is the world)

@@ -40,7 +40,9 @@ class SeabedContact:
         model, tm, water = L.model, L.tm, self.drum.water
         if not tm.seabed_friction or tm.userdata_adr < 0:  # (no friction: MuJoCo's contact is all)
             return None
-        seabed = (model.geom_conaffinity & TETHER_CONTACT_BIT != 0) & (model.geom_bodyid == 0)
+        flex = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_FLEX, tm.name)
+        bit = int(model.flex_contype[flex]) if flex >= 0 else TETHER_CONTACT_BIT  # (its seabed: see add_tether)
+        seabed = (model.geom_conaffinity & bit != 0) & (model.geom_bodyid == 0)
         planes = np.flatnonzero(seabed & ((model.geom_type == int(mujoco.mjtGeom.mjGEOM_PLANE))
                                           | (model.geom_type == int(mujoco.mjtGeom.mjGEOM_HFIELD)))).tolist()
         if not planes:

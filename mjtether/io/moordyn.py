@@ -30,8 +30,9 @@ Line types: Diam, Mass/m, EA, BA/-zeta, EI, Cd, Ca, CdAx, CaAx; CaAx = Ca is mjt
 isotropic added mass, CaAx = 0 its "normal" one (other values: the nearer, with a warning);
 BA/-zeta: mjtether damps each element's stretch critically (noted). Read, not needed: the
 options of MoorDyn's own integrator and initial-condition solver (dtM, CFL, tScheme, dtIC,
-TmaxIC, CdScaleIC, threshIC, ICgenDynamic, fileIC; mjtether picks its own stable step and
-starts from its steady state), FricDamp (mjtether's friction sticks exactly), the output
+TmaxIC, CdScaleIC, threshIC, ICgenDynamic, fileIC; mjtether picks its own stable step, for
+one line its default 5 ms or less where the seabed's kBot needs it, and starts from its steady
+state), FricDamp (mjtether's friction sticks exactly), the output
 options and the OUTPUTS section. Refused, naming the feature and the file's line: rods on
 bodies, a line with bending stiffness on a rod's end (MoorDyn clamps it), line failure, SYROPE
 line types, viscoelastic ('|') or nonlinear (a curve file) EA, BA in N s, VIV (Cl != 0), waves
@@ -523,7 +524,18 @@ def read(path=None, *, text: str | None = None, name: str | None = None, overrid
     p = parse(text, name)
     if p.bodies or _chain(p) is None:
         return _network(p, overrides)
-    return load_scenario(data=_tree(p), name=name, overrides=overrides)
+    tree = _tree(p)
+    sc = load_scenario(data=tree, name=name, overrides=overrides)
+    if sc.water.seabed_stiffness > 0 and not any(str(o).startswith("simulation.timestep=") for o in overrides):
+        from mjtether.cable.builder import seabed_timestep
+        from mjtether.scenario.scene import makeup_from, tether_from
+        line = makeup_from(sc) or tether_from(sc)
+        dt = seabed_timestep(line, p.rho, sc.water.seabed_stiffness)
+        if dt < sc.simulation.timestep:  # (a whole number of steps per output interval)
+            tree["simulation"]["timestep"] = sc.simulation.output_interval / math.ceil(
+                sc.simulation.output_interval / dt)
+            sc = load_scenario(data=tree, name=name, overrides=overrides)
+    return sc
 
 
 def to_dict(text: str, name: str = "<moordyn>") -> dict:

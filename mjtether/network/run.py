@@ -113,6 +113,7 @@ class NetworkRun:
     pilots: dict = None  # vehicle name -> its VehiclePilot
     vehicle_bodies: dict = None  # vehicle name -> its BoundVehicle
     _scratch: mujoco.MjData | None = field(default=None, repr=False)  # (see poses_now)
+    history: dict = field(default_factory=dict)  # line name -> its ``record``s, one per sample
 
     def advance(self, steps: int) -> None:
         """Step ``steps`` times; with vehicles or winches, their controls act before each step."""
@@ -144,6 +145,19 @@ class NetworkRun:
     def line_nodes(self, name: str) -> np.ndarray:
         """Node positions (m, world) of line ``name`` from end A to end B."""
         return self.sim.tethers[name].nodes(self.sim.data)[::-1].copy()
+
+    def record(self) -> None:
+        """Keep every line's nodes (m, world; shape (n+1, 3)), element tensions and pushes (N, >=
+        0; shape (n,)), all from end A to end B, in ``history`` (at the state the last step
+        began from, as the end forces of ``sample``). A line paying out keeps its full capacity:
+        its nodes still on the drum are given at end B, its elements there carry 0."""
+        d = self.sim.data
+        for ln in self.net.lines:
+            bt = self.sim.tethers[ln.name]
+            h = self.history.setdefault(ln.name, {"nodes": [], "tension": [], "compression": []})
+            h["nodes"].append(bt.all_nodes(d)[::-1])
+            h["tension"].append(bt.element_tension(d)[::-1])
+            h["compression"].append(bt.element_compression(d)[::-1])
 
     def point_position(self, name: str) -> np.ndarray:
         return self.sim.data.xpos[self.point_bodies[name]].copy()
@@ -177,10 +191,7 @@ def build(net: Network) -> NetworkRun:
     spec.option.timestep = dt
     spec.option.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST
     spec.option.gravity = [0.0, 0.0, -net.gravity]
-    if net.grid is not None:
-        builder.add_seabed_grid(spec, net.grid, friction=net.seabed_friction)
-    else:
-        builder.add_seabed(spec, water, friction=net.seabed_friction)
+    bits = _add_seabeds(spec, net, water)
     hydro = []
     for name, b in net.bodies.items():
         body = spec.worldbody.add_body(name=f"body/{name}", pos=list(b.position), quat=_quat(b.rpy_deg))
@@ -224,7 +235,7 @@ def build(net: Network) -> NetworkRun:
             spec, lt.tether(ln.length, ln.segments), ends[0], ends[1], water=water, nodes=nodes, name=ln.name,
             seabed_friction=net.seabed_friction, seabed_stiffness=net.seabed_stiffness or None,
             seabed_damping=net.seabed_damping, start_at=positions[ln.b], end_at=positions[ln.a],
-            rest_on_axis=True, max_length=ln.max_length if ln.payout_speed > 0 else None)
+            contact_bit=bits[net.line_types[ln.type].diameter], max_length=ln.max_length if ln.payout_speed > 0 else None)
     sim = Simulation(spec, water, tethers=list(tms.values()), bodies=hydro)
     vehicle_bodies, pilots = {}, {}
     for name, v in net.vehicles.items():  # (after the Simulation: the pilot flies its bound body)
@@ -246,6 +257,27 @@ def build(net: Network) -> NetworkRun:
             sim.data.xfrc_applied[bid, :3] = p.force
     sim.forward()
     return NetworkRun(net, sim, point_bodies, note, dt, pilots, vehicle_bodies)
+
+
+def _add_seabeds(spec: mujoco.MjSpec, net: Network, water: wm.WaterColumn) -> dict:
+    """The seabed (a plane, or the network's grid as a height field), on which bodies and vehicles
+    rest, and for each line diameter d a copy of it lowered by d/2 that only lines of that
+    diameter touch, so that they rest with their axis on the seabed, as MoorDyn's nodes do (see
+    ``builder.add_tether``'s ``contact_bit``). Returns {d: the contact bit of its copy}."""
+    def seabed(**kw):
+        if net.grid is not None:
+            return builder.add_seabed_grid(spec, net.grid, friction=net.seabed_friction, **kw)
+        return builder.add_seabed(spec, water, friction=net.seabed_friction, **kw)
+
+    seabed()
+    diameters = sorted({net.line_types[ln.type].diameter for ln in net.lines})
+    if len(diameters) > 29:  # (a contact bit each, above the robots' and the default tether's)
+        raise ValueError(f"a network's lines come in at most 29 diameters; this one has {len(diameters)}")
+    bits = {}
+    for i, d in enumerate(diameters):
+        bits[d] = 4 << i
+        seabed(name=f"seabed/d{i}", lower=d / 2, bits=(0, bits[d]), rgba=(0.0, 0.0, 0.0, 0.0))
+    return bits
 
 
 def _support(net: Network, positions: dict, pid: str):
@@ -345,12 +377,14 @@ def simulate(net: Network, progress=None) -> tuple[NetworkRun, np.ndarray]:
         every = max(1, round(net.output_interval / r.timestep))
         total = max(1, round(net.duration / r.timestep))
         rows = [sample(r)]
+        r.record()
         done = 0
         while done < total:
             k = min(every, total - done)
             r.advance(k)
             done += k
             rows.append(sample(r))
+            r.record()
             if progress is not None:
                 progress(done, total)
         table = np.array(rows)
@@ -364,7 +398,11 @@ def simulate(net: Network, progress=None) -> tuple[NetworkRun, np.ndarray]:
 
 def write(r: NetworkRun, rows: np.ndarray, folder, *, source=None, wall_time: float = 0.0) -> None:
     """The results of a run into ``folder`` (an empty staging folder): ``timeseries.csv``,
-    ``lines.npz`` (each line's final nodes, A to B, m) and ``summary.json``."""
+    ``lines.npz`` and ``summary.json``. ``lines.npz`` holds ``time_s`` (the samples' times, s)
+    and, per line NAME, from end A to end B: ``lineNAME`` (its final deployed nodes, m),
+    ``lineNAME_nodes`` (samples, n+1, 3; m), ``lineNAME_tension`` and ``lineNAME_compression``
+    (samples, n; N, >= 0: each element's pull, and the push its constraint made, which a cable
+    cannot and the tension leaves out; see ``NetworkRun.record``)."""
     folder = Path(folder)
     net = r.net
     cols = columns(net)
@@ -373,7 +411,12 @@ def write(r: NetworkRun, rows: np.ndarray, folder, *, source=None, wall_time: fl
         w.writerow(cols)
         for row in rows:
             w.writerow([f"{v:.9g}" for v in row])
-    np.savez_compressed(folder / "lines.npz", **{f"line{ln.name}": r.line_nodes(ln.name) for ln in net.lines})
+    arrays = {"time_s": rows[:, 0]}
+    for ln in net.lines:
+        arrays[f"line{ln.name}"] = r.line_nodes(ln.name)
+        for what, values in r.history.get(ln.name, {}).items():
+            arrays[f"line{ln.name}_{what}"] = np.array(values)
+    np.savez_compressed(folder / "lines.npz", **arrays)
     final = dict(zip(cols, rows[-1]))
     summary = {
         "source": None if source is None else str(source),

@@ -40,3 +40,67 @@ def test_a_level_float_line_rests_at_its_draft(offset):
     for end in "ab":
         z = rows[late, cols.index(f"point{end}_z_m")]
         assert np.mean(z) == pytest.approx(axis, abs=5e-4), np.mean(z)
+
+
+def _moordyn_c_wet_fraction(tmp_path, axis_z: float, d: float, length: float, mu: float, rho: float) -> float:
+    """The submerged part of a level line (both ends fixed, axis at ``axis_z``, three segments)
+    by MoorDyn-C's own node weights, ``GetLineNodeWeight``: sum W_z = -g (m L - rho V)."""
+    moordyn = pytest.importorskip("moordyn")
+    path = tmp_path / f"float{axis_z:+g}.txt"
+    path.write_text(f"""MoorDyn input: a level float line
+----------------------- LINE TYPES ------------------------------------------
+TypeName   Diam    Mass/m     EA         BA/-zeta    EI         Cd     Ca     CdAx    CaAx
+(name)     (m)     (kg/m)     (N)        (N-s/-)     (N-m^2)    (-)    (-)    (-)     (-)
+float      {d}     {mu}       2.2e9      -0.5        0          0.0    0.0    0.0     0.0
+---------------------- POINTS --------------------------------
+ID    Type      X       Y       Z       Mass   Volume  CdA    Ca
+(#)   (-)       (m)     (m)     (m)     (kg)   (m^3)   (m^2)  (-)
+1     Fixed     0       0       {axis_z}   0      0       0      0
+2     Fixed     {length}    0       {axis_z}   0      0       0      0
+---------------------- LINES ----------------------------------------
+ID   LineType   AttachA  AttachB  UnstrLen  NumSegs  LineOutputs
+(#)   (name)     (#)      (#)       (m)       (-)     (-)
+1     float      1        2         {length}      3      -
+---------------------- OPTIONS -----------------------------------------
+1E-5          dtM
+{rho}        WtrDnsty
+100           WtrDpth
+0             TmaxIC
+------------------------- need this line --------------------------------------
+""")
+    s = moordyn.Create(str(path))
+    try:
+        moordyn.Init(s, np.zeros(0), np.zeros(0))
+        moordyn.Step(s, np.zeros(0), np.zeros(0), 0.0, 1e-5)
+        line = moordyn.GetLine(s, 1)
+        nodes = [moordyn.GetLineNodePos(line, i)[2] for i in range(moordyn.GetLineN(line) + 1)]
+        assert np.sign(nodes).tolist() == [np.sign(axis_z)] * 4  # (every node on its side of the surface)
+        wz = sum(moordyn.GetLineNodeWeight(line, i)[2] for i in range(moordyn.GetLineN(line) + 1))
+    finally:
+        moordyn.Close(s)
+    return (wz / 9.80665 + mu * length) / (rho * math.pi * d * d / 4 * length)
+
+
+@pytest.mark.parametrize("axis_z", [-0.01, 0.01])
+def test_moordyn_c_buoys_a_float_by_its_nodes_and_mjtether_by_its_wet_part(tmp_path, axis_z):
+    """Why tripod.txt is not compared with MoorDyn-C. Its float (0.82 m wide, 0.63 m long, 133.3
+    kg/m) is a line lying on the surface. MoorDyn-C buoys a line segment by where its two nodes
+    are (Line.cpp, calcSubSeg): all of it when both are under the surface, none when both are
+    above. With the float level and its axis 1 cm under or over the surface, MoorDyn-C's own node
+    weights give it all or none of its buoyancy, where the cylinder cut by the surface has 51.6 %
+    or 48.4 % of it under water (the circular segment, 1 - (a - sin a) / (2 pi), a = 2 acos(-z/r)
+    with z the axis height): 3.3 kN of buoyancy switches on and off as the float's axis crosses the
+    surface, so MoorDyn-C's float has no waterplane stiffness and never settles there.
+    mjtether's wet fraction (``hydro.wet_fraction``, the mean of each cross-section's circular
+    segment along the axis) is the cylinder's, within 1e-9 for a level element."""
+    from mjtether.physics import hydro
+
+    d, length, mu, rho = 0.82, 0.63, 133.3333333, 1025.0
+    r = d / 2
+    a = 2 * math.acos(-axis_z / r)  # (the dry segment's angle: the surface is -axis_z above the axis)
+    wet = 1 - (a - math.sin(a)) / (2 * math.pi)
+    assert wet == pytest.approx(0.516 if axis_z < 0 else 0.484, abs=1e-3)
+    theirs = _moordyn_c_wet_fraction(tmp_path, axis_z, d, length, mu, rho)
+    assert theirs == pytest.approx(1.0 if axis_z < 0 else 0.0, abs=1e-9)
+    ours, _ = hydro.wet_fraction(np.array([axis_z]), np.array([axis_z]), r)
+    assert float(ours[0]) == pytest.approx(wet, abs=1e-9)
