@@ -31,8 +31,8 @@ isotropic added mass, CaAx = 0 its "normal" one (other values: the nearer, with 
 BA/-zeta: mjtether damps each element's stretch critically (noted). Read, not needed: the
 options of MoorDyn's own integrator and initial-condition solver (dtM, CFL, tScheme, dtIC,
 TmaxIC, CdScaleIC, threshIC, ICgenDynamic, fileIC; mjtether picks its own stable step, for
-one line its default 5 ms or less where the seabed's kBot needs it, and starts from its steady
-state), FricDamp (mjtether's friction sticks exactly), the output
+one line the largest at which it is stable, keeps its EA and rests on the seabed, up to 0.05 s,
+and starts from its steady state), FricDamp (mjtether's friction sticks exactly), the output
 options and the OUTPUTS section. Refused, naming the feature and the file's line: rods on
 bodies, a line with bending stiffness on a rod's end (MoorDyn clamps it), line failure, SYROPE
 line types, viscoelastic ('|') or nonlinear (a curve file) EA, BA in N s, VIV (Cl != 0), waves
@@ -54,6 +54,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from mjtether.scenario import ScenarioError, load_scenario
+from mjtether.scenario.stable_step import stable_timestep
 
 DEFAULT_DURATION = 60.0
 """Simulated time (s) of a scenario read from a MoorDyn file, which does not say."""
@@ -526,14 +527,10 @@ def read(path=None, *, text: str | None = None, name: str | None = None, overrid
         return _network(p, overrides)
     tree = _tree(p)
     sc = load_scenario(data=tree, name=name, overrides=overrides)
-    if sc.water.seabed_stiffness > 0 and not any(str(o).startswith("simulation.timestep=") for o in overrides):
-        from mjtether.cable.builder import seabed_timestep
-        from mjtether.scenario.scene import makeup_from, tether_from
-        line = makeup_from(sc) or tether_from(sc)
-        dt = seabed_timestep(line, p.rho, sc.water.seabed_stiffness)
-        if dt < sc.simulation.timestep:  # (a whole number of steps per output interval)
-            tree["simulation"]["timestep"] = sc.simulation.output_interval / math.ceil(
-                sc.simulation.output_interval / dt)
+    if not any(str(o).startswith("simulation.timestep=") for o in overrides):
+        dt = stable_timestep(sc)
+        if dt != sc.simulation.timestep:
+            tree["simulation"]["timestep"] = dt
             sc = load_scenario(data=tree, name=name, overrides=overrides)
     return sc
 

@@ -43,8 +43,10 @@ from . import statics
 from .config import Network
 
 MAX_TIMESTEP = 0.005
-"""Longest step taken (s): at 10 ms the three lines of MoorDyn's lines.txt did not settle (tension
-noise of 25 %) though each line's stability limits allow it; at 5 ms they settle as at 2 ms (0.01 %)."""
+"""Longest step taken (s): bodies, vehicles and free points have no stability limit of their own in
+``timestep_for`` yet. (At 10 ms, before the seabed contact's damping was capped at b dt = 1, the
+three lines of MoorDyn's lines.txt did not settle, tension noise of 25 %, though each line's
+stability limits allowed it; at 5 ms they settle as at 2 ms, 0.01 %.)"""
 
 
 def water_of(net: Network) -> wm.WaterColumn:

@@ -59,8 +59,14 @@ def test_file_maps_onto_the_scenario_keys():
     assert (w.depth, w.density.rho, w.gravity, w.seabed_stiffness, w.seabed_damping) == (150.0, 1025.0, 9.81, 3e6, 3e5)
     assert sc.robot.type == "anchor" and sc.robot.position == (-400.0, 0.0, -150.0)
     assert sc.ship.position == (0.0, 0.0) and sc.ship.fairlead_z == -9.0
-    # (dtM is MoorDyn's explicit step: mjtether takes its own, the default 5 ms)
-    assert sc.simulation.timestep == 0.005 and sc.simulation.duration == moordyn.DEFAULT_DURATION
+    # dtM is MoorDyn's explicit step: mjtether takes its own, here the longest its seabed contact
+    # allows (MoorDyn's kBot on d l per kg of chain with its added mass, k dt^2 = 0.1: 7.26 ms),
+    # a whole number of them per output interval
+    k = 3e6 * 0.1 / (150.0 + 1.0 * 1025.0 * math.pi * 0.1 ** 2 / 4)
+    dt, interval = sc.simulation.timestep, sc.simulation.output_interval
+    assert 0.5 * math.sqrt(0.1 / k) < dt <= math.sqrt(0.1 / k)
+    assert interval / dt == pytest.approx(round(interval / dt), abs=1e-9)
+    assert sc.simulation.duration == moordyn.DEFAULT_DURATION
 
 
 def test_a_moordyn_file_runs_to_the_analytic_catenary(tmp_path, capsys):
