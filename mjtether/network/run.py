@@ -13,7 +13,9 @@ on a ball joint at its pin (its added mass there as the diagonal of the rigid-bo
 the pin, ``rigidbody.BoundBodyHydro``). A vehicle is its
 vehicle file's MuJoCo body (``vehicles.build_vehicle``), flown by the scenario's autopilot
 (``VehiclePilot``) holding its station; a line paying out has its drum at end B, whose deployed
-length grows at its payout speed up to its max_length (``BoundTether.set_length``).
+length grows at its payout speed up to its max_length (``BoundTether.set_length``). Lines rest
+on the seabed with their axis on it, as MoorDyn's nodes do: each diameter touches its own copy
+of the seabed, lowered by its radius (``_add_seabeds``).
 
 The time step is the largest that every line allows (``cable.stability.max_timestep`` at the
 steady-state tension, and the seabed contact's limit), at most ``MAX_TIMESTEP``; a MoorDyn file's ``dtM``
@@ -237,7 +239,8 @@ def build(net: Network) -> NetworkRun:
             spec, lt.tether(ln.length, ln.segments), ends[0], ends[1], water=water, nodes=nodes, name=ln.name,
             seabed_friction=net.seabed_friction, seabed_stiffness=net.seabed_stiffness or None,
             seabed_damping=net.seabed_damping, start_at=positions[ln.b], end_at=positions[ln.a],
-            contact_bit=bits[net.line_types[ln.type].diameter], max_length=ln.max_length if ln.payout_speed > 0 else None)
+            contact_bit=bits[net.line_types[ln.type].diameter],
+            max_length=ln.max_length if ln.payout_speed > 0 else None)
     sim = Simulation(spec, water, tethers=list(tms.values()), bodies=hydro)
     vehicle_bodies, pilots = {}, {}
     for name, v in net.vehicles.items():  # (after the Simulation: the pilot flies its bound body)

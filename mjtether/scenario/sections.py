@@ -163,9 +163,10 @@ class Water(Section):
                                     "of penetration on its projected area d l, as MoorDyn's kBot (0: MuJoCo's soft "
                                     "contact at twice the time step)")
     seabed_damping: float = param(0.0, 0.0, 1e10, "Pa s/m", "the tether's seabed contact: pressure per m/s of "
-                                  "penetration speed, as MoorDyn's cBot (used with seabed_stiffness, which is refused if too "
-                                  "stiff for simulation.timestep, naming the step that works; a damping beyond what the "
-                                  "step resolves, 1/dt per kg of cable, is taken as that: a landing node stops in a step)")
+                                  "penetration speed, as MoorDyn's cBot (used with seabed_stiffness, which is "
+                                  "refused if too stiff for simulation.timestep, naming the step that works; a "
+                                  "damping beyond what the step resolves, 1/dt per kg of cable, is taken as that: "
+                                  "a landing node stops in a step)")
     gravity: float = param(9.81, 9.7, 9.9, "m/s^2", "gravitational acceleration (weight and buoyancy)")
     bathymetry: str = param("", doc="the seabed from a grid file instead of depth and slope (a path, relative to the "
                             "scenario file): MoorDyn's 3-D seafloor file, or a grid of depths (m, positive down; CSV "
