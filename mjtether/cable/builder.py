@@ -382,8 +382,10 @@ a 390 kg/m chain and 10 on a neutral 0.1 m line: they stop it too, in MoorDyn's 
 steps.)"""
 CONTACT_K_DT2 = 0.1
 """Largest k dt^2 of that contact (see CONTACT_B_DT): at b dt = 1 a landing node leaves again at
-about k dt^2 of its landing speed (measured: 0.01, 0.05, 0.10, 0.26, 1.02 of it at k dt^2 =
-0.01, 0.05, 0.1, 0.25, 1), so a tenth at most."""
+most at k dt^2 of its landing speed V (its speed after its first step in the contact is -k dt x0,
+x0 < V dt its depth when the contact found it; the damping then takes each step's speed away),
+so a tenth at most (measured on a ball: 0.01, 0.05, 0.10, 0.26, 1.02 of V at k dt^2 = 0.01,
+0.05, 0.1, 0.25, 1)."""
 
 
 def seabed_contact(tether: TetherSpec, rho: float, stiffness: float, damping: float) -> tuple[float, float, float]:
