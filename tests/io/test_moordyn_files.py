@@ -11,6 +11,7 @@ measured errors are in each case's comment.
 """
 
 import importlib.util
+import json
 import re
 import warnings
 from pathlib import Path
@@ -343,6 +344,8 @@ def test_on_the_3d_seafloor_mjtether_slides_the_point_that_moordyn_c_holds(tmp_p
     assert moved < 5e-3, f"MoorDyn-C's point moved {moved * 1e3:.1f} mm"
 
     rows = _run(tmp_path, Path("Mooring") / "seafloor.txt", 20.0)
+    start = json.loads((tmp_path / "res" / "summary.json").read_text())["start"]
+    assert "left on point 2; the statics give a free point no seabed to rest on" in start, start
     grid = bathymetry.load(MOORING / "3D_seafloor" / "seafloor_profile_3d.txt")
     x, z = rows["point2_x_m"], rows["point2_z_m"]
     gap = z - grid.height(x, rows["point2_y_m"])
