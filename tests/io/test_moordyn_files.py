@@ -319,7 +319,8 @@ def test_on_the_3d_seafloor_mjtether_slides_the_point_that_moordyn_c_holds(tmp_p
 
     Nothing in this run makes energy (a frictionless slope, no drag, a line whose damping only
     takes it): the point, starting at rest, never rises above where it started (by more than 5
-    cm: the 5 J that the line's top element gains as it loses buoyancy at the surface). Before
+    cm: the 5 J that the line's top element, partly dry at the surface and so heavier than the
+    water there, gives up as it falls; measured: never above it). Before
     mjtether capped the contact's damping (``builder.CONTACT_B_DT``), MoorDyn's default cBot
     threw the landing point back out at five times its speed, up to 5.5 m above its start; and
     while its line rested on a contact capsule of no radius, the point, on a row of the grid
