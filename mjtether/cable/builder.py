@@ -249,6 +249,7 @@ def add_seabed(spec: mujoco.MjSpec, water: WaterColumn, *, friction: float = 0.6
     _checks.non_negative("seabed.friction", friction)
     _checks.in_range("seabed.slope", slope, 0.0, math.radians(45.0) - 1e-9, "rad")
     _checks.finite("seabed.slope_heading", slope_heading)
+    _checks.non_negative("seabed.lower", lower, "m")
     pos = np.array([0.0, 0.0, water.seabed_z] if point is None else [float(v) for v in point])
     quat = slope_quat(slope, slope_heading)
     if lower:
@@ -271,6 +272,7 @@ def add_seabed_grid(spec: mujoco.MjSpec, bathymetry, *, friction: float = 0.6, r
     the grid there is no seabed. ``lower`` (m) moves it down and ``bits`` are its (contype,
     conaffinity), as for ``add_seabed``."""
     _checks.non_negative("seabed.friction", friction)
+    _checks.non_negative("seabed.lower", lower, "m")
     b = bathymetry
     zmin, zrange = float(b.z.min()), max(float(np.ptp(b.z)), 1e-6)
     x0, x1, y0, y1 = b.bounds

@@ -192,8 +192,6 @@ def _current(ckind, cp, depth):
     return speed * math.cos(cp[cp.shape[0] - 1]), speed * math.sin(cp[cp.shape[0] - 1])
 
 
-
-
 @jit
 def element_water(x, dkind, dp, ckind, cp, rho, u):
     """Density ``rho`` (2n,) and current ``u`` (2n, 3) at the two Gauss points of each element

@@ -58,12 +58,18 @@ def _disk_wet(c):
     return F, G, H
 
 
+def section_half_height(diameter, t: np.ndarray) -> np.ndarray:
+    """Half the vertical extent (m) of the cross-sections of cylinders of ``diameter`` (m, scalar
+    or per element) along unit tangents ``t`` (K, 3): r sqrt(1 - t_z^2)."""
+    return 0.5 * np.asarray(diameter) * np.sqrt(np.maximum(1.0 - t[:, 2] ** 2, 0.0))
+
+
 def wet_fraction(z0: np.ndarray, z1: np.ndarray, half_height=0.0):
     """Submerged fraction of straight elements with axis end heights z0, z1 (m), and the position
     (0 at node i, 1 at node i+1) of the centre of the wetted part.
 
     ``half_height`` (m, scalar or per element): half the vertical extent of an element's cross
-    section, r sqrt(1 - t_z^2) for a cylinder of radius r along the unit tangent t. Each cross
+    section (``section_half_height``). Each cross
     section square to the axis is wet by its circular segment under z = 0 and the element's
     fraction is their mean along the axis, which is the cylinder's wet volume cut by the surface
     exactly (end caps aside): a float lying on the surface is buoyed by the part of it that is
@@ -230,8 +236,7 @@ def tether_loads(
             ``cd_normal`` as its one C_d and ignores ``cd_tangential`` and floats).
     """
     _, _, t = element_geometry(x)
-    frac, centre = wet_fraction(x[:-1, 2], x[1:, 2], 0.5 * np.asarray(diameter) * np.sqrt(np.maximum(1.0 - t[:, 2] ** 2,
-                                                                                                   0.0)))
+    frac, centre = wet_fraction(x[:-1, 2], x[1:, 2], section_half_height(diameter, t))
     zg = np.minimum(gauss_heights(x[:, 2]), 0.0)
     rho = rho_fn(zg)  # (2, n): at each element's two Gauss points
     near = far = 0.0  # each element's drag on node i and on node i + 1: the lever rule from its Gauss points

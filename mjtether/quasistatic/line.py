@@ -21,7 +21,7 @@ import numpy as np
 from mjtether.cable.makeup import LineMakeup
 from mjtether.cable.tether import TetherSpec
 from mjtether.physics import compiled
-from mjtether.physics.hydro import GAUSS_POINTS, element_drag, wet_fraction
+from mjtether.physics.hydro import GAUSS_POINTS, element_drag, section_half_height, wet_fraction
 from mjtether.physics.water import WaterColumn
 
 from . import kernels
@@ -123,7 +123,7 @@ class _Cable:
         l, d, A, mu = self.l_e[k], self.d_e[k], self.A_e[k], self.mu_e[k]
         z0 = x0[:, 2]
         z1 = z0 + l_s * t[:, 2]
-        h = 0.5 * d * np.sqrt(np.maximum(1.0 - t[:, 2] ** 2, 0.0))  # (the cross-sections' vertical half-height)
+        h = section_half_height(d, t)
         if (z0 + h).max() <= 0.0 and (z1 + h).max() <= 0.0:  # fully wet, the usual case
             l_wet = l
         else:

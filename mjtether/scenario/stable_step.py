@@ -31,9 +31,10 @@ def stable_timestep(sc: Scenario) -> float:
     this gives them agree with MoorDyn-C alike: fairlead tensions within 0.55 %, 0.13 % and
     0.005 % in 50, 200 and 600 m of water.)"""
     makeup, water = makeup_from(sc), water_from(sc)
+    line = makeup or tether_from(sc)
     dt = sc.simulation.timestep
     if makeup is None:
-        tether = tether_from(sc)
+        tether = line
         top = np.array([*sc.ship.position, sc.ship.fairlead_z], float)
         try:
             st = steady_state(tether, water, top, np.array(sc.robot.position, float),
@@ -43,7 +44,6 @@ def stable_timestep(sc: Scenario) -> float:
         except (ValueError, RuntimeError):  # (no steady state: the scenario's default step)
             pass
     if sc.water.seabed_stiffness > 0:
-        dt = min(dt, seabed_timestep(makeup or tether_from(sc), water.rho([water.seabed_z])[0],
-                                     sc.water.seabed_stiffness))
+        dt = min(dt, seabed_timestep(line, water.rho([water.seabed_z])[0], sc.water.seabed_stiffness))
     interval = sc.simulation.output_interval
     return interval / math.ceil(interval / dt - 1e-9)
