@@ -58,6 +58,7 @@ import numpy as np
 from gymnasium import spaces
 
 from mjtether.io.render import Marker
+from mjtether.physics import actuation
 from mjtether.scenario.config import Section, param
 from mjtether.scenario.readouts import roll_pitch
 from mjtether.vehicles.files import load_vehicle
@@ -233,7 +234,7 @@ class TetheredROVEnv(TetherEnv):
         err = self._target_error()
         roll, pitch = roll_pitch(R)
         current = R.T @ n.current_at(np.array([min(p[2], 0.0)]))[0]
-        act = r.sim.data.act[r.sim.model.actuator_actadr[self._acts]]
+        act = r.sim.data.act[actuation.delivered(r.sim.model, self._acts)]
         delivered = np.where(act >= 0.0, act / self._max_fwd, act / np.maximum(self._max_rev, 1e-9))
         obs = np.array([*(R.T @ err[:3]), math.sin(err[3]), math.cos(err[3]), *nu, roll, pitch,
                         *n.tow_force_body, *current[:2], -p[2], *delivered], dtype=np.float32)

@@ -45,7 +45,7 @@ import warnings
 import mujoco
 import numpy as np
 
-from mjtether.physics import compiled, jitcache
+from mjtether.physics import actuation, compiled, jitcache
 
 numba = compiled.numba
 if numba is not None:
@@ -60,9 +60,10 @@ SLOTS = 32
 """Rows of a provider's table: (address, length) of each of its arrays."""
 
 # the mjData / mjModel arrays the callback reads, in the order of offsets()
-_DATA_FIELDS = ("qvel", "qacc", "qfrc_passive", "flexvert_xpos", "userdata", "xpos", "xmat", "act")
-_MODEL_FIELDS = ("wrap_prm",)
-QVEL, QACC, QFRC, FLEXVERT, USERDATA, XPOS, XMAT, ACT, WRAP_PRM, TIMESTEP = range(10)
+_DATA_FIELDS = ("qvel", "qacc", "qfrc_passive", "flexvert_xpos", "userdata", "xpos", "xmat", "act", "ctrl", "act_dot")
+_MODEL_FIELDS = ("wrap_prm", "actuator_dynprm", "actuator_actadr", "actuator_actnum")
+(QVEL, QACC, QFRC, FLEXVERT, USERDATA, XPOS, XMAT, ACT, CTRL, ACT_DOT, WRAP_PRM, DYNPRM, ACTADR, ACTNUM,
+ TIMESTEP) = range(15)
 # (TIMESTEP: the word of mjModel's opt.timestep itself, a number, not a pointer)
 
 
@@ -166,6 +167,7 @@ if numba is not None:
 
     _f64 = _cast(types.CPointer(types.float64))  # float64 pointer
     _i64 = _cast(types.CPointer(types.int64))  # int64 pointer
+    _i32 = _cast(types.CPointer(types.int32))  # int32 pointer (mjModel's integer arrays)
     _void = _cast(types.voidptr)  # void pointer, for MuJoCo's functions
 
     @intrinsic
@@ -495,6 +497,32 @@ def _mjcb_passive(m, d):
     _passive_here(_address(m), _address(d))
 
 
+_response_act_dot = _jit(actuation.response_act_dot)
+
+
+@_jit
+def _act_dyn_here(mp, dp, i):
+    """``actuation``'s activation rate for actuator ``i`` of the model at ``mp``, written to the
+    ``mjData`` at ``dp``; returns the last one (MuJoCo's for an actuator of one activation)."""
+    offs = numba.carray(_i64(_registry_address()), (OFFSET_WORDS,))
+    adr = numba.carray(_i32(_field(mp, offs, ACTADR)), (i + 1,))[i]
+    k = numba.carray(_i32(_field(mp, offs, ACTNUM)), (i + 1,))[i]
+    if k < 1:
+        return 0.0
+    prm = numba.carray(_f64(_field(mp, offs, DYNPRM)), (10 * (i + 1),))[10 * i:]
+    act = numba.carray(_f64(_field(dp, offs, ACT)), (adr + k,))[adr:]
+    act_dot = numba.carray(_f64(_field(dp, offs, ACT_DOT)), (adr + k,))[adr:]
+    u = numba.carray(_f64(_field(dp, offs, CTRL)), (i + 1,))[i]
+    dt = numba.carray(_f64(mp), (offs[TIMESTEP] + 1,))[offs[TIMESTEP]]
+    _response_act_dot(prm, act, u, dt, act_dot)
+    return act_dot[k - 1]
+
+
+def _mjcb_act_dyn(m, d, i):
+    """The ``mjcb_act_dyn`` MuJoCo calls (compiled by ``act_dyn_callback``, after ``_link``)."""
+    return _act_dyn_here(_address(m), _address(d), i)
+
+
 # --------------------------------------------------------------------------- registration
 
 OFFSET_WORDS = 16
@@ -601,6 +629,17 @@ def apply(model: mujoco.MjModel, data: mujoco.MjData) -> None:
     """The callback's work for one step, called from Python (``dispatch``'s Python callback)."""
     _link()
     _passive_here(model._address, data._address)
+
+
+def act_dyn_callback():
+    """The compiled ``mjcb_act_dyn`` (``actuation``), a ctypes function pointer for
+    ``mujoco.set_mjcb_act_dyn``."""
+    _link()
+    cb = _state.get("act_dyn")
+    if cb is None:
+        cb = _state["act_dyn"] = numba.cfunc(types.float64(types.voidptr, types.voidptr, types.int32), nogil=True,
+                                             cache=jitcache.CACHE, error_model="numpy")(_mjcb_act_dyn)
+    return cb.ctypes
 
 
 def callback():

@@ -18,7 +18,8 @@ The file's tables (units SI; body frame x forward, y left, z up; see ``vehicle``
     [surface]      waterplane_area, gm_t, gm_l, max_volume, centre_of_flotation, length, draft,
                    crossflow_cd, strips (a surface vessel's hydrostatics and cross-flow drag,
                    ``vehicle.Surface``; its origin on the design waterline)
-    [[thrusters]]  name, position, direction, max_forward, max_reverse, time_constant
+    [[thrusters]]  name, position, direction, max_forward, max_reverse, time_constant or response
+                   (a table {numerator, denominator}: the thrust's transfer function, ``thruster.Thruster``)
     [[fins]]       name, position, lift_direction, area, cl_delta, max_angle_deg, time_constant,
                    stall_angle_deg, post_stall_lift (``fins.Fin``)
     [propeller]    name, position, diameter, kt0, kt_max, ja_max, kq0, kq_max, thrust_deduction,
@@ -52,7 +53,7 @@ KEYS = {
     "hull": {"length", "diameter", "axial_cd", "crossflow_cd", "reference_area", "oswald", "strips", "crossflow"},
     "surface": {"waterplane_area", "gm_t", "gm_l", "max_volume", "centre_of_flotation", "length", "draft",
                 "crossflow_cd", "strips"},
-    "thrusters": {"name", "position", "direction", "max_forward", "max_reverse", "time_constant"},
+    "thrusters": {"name", "position", "direction", "max_forward", "max_reverse", "time_constant", "response"},
     "fins": {"name", "position", "lift_direction", "area", "cl_delta", "max_angle_deg", "time_constant",
              "stall_angle_deg", "post_stall_lift"},
     "propeller": {"name", "position", "diameter", "kt0", "kt_max", "ja_max", "kq0", "kq_max", "thrust_deduction",

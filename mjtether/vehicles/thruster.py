@@ -4,7 +4,9 @@ voltage into the thrust asked of it (dead zone, different forward and reverse ma
 
 The actuator's control is the thrust wanted (N); MuJoCo clips it to [-max_reverse, max_forward]
 (``ctrlrange``) and lags it by ``time_constant`` (its ``filterexact`` activation is the thrust
-delivered). A ``ThrustCurve`` gives that control from a command voltage as the thruster tests
+delivered), or, where the thruster gives a ``response`` (a transfer function from thrust asked
+to thrust delivered, e.g. von Benzon et al.'s 2022 third-order K(s)), passes it through that
+(``physics.actuation``: the activation's last element is the thrust delivered). A ``ThrustCurve`` gives that control from a command voltage as the thruster tests
 of Hong et al. (2020, J. Mar. Sci. Eng. 8, 485) measure it: no thrust inside a dead zone,
 linear beyond it up to the forward and reverse maxima.
 
@@ -20,6 +22,7 @@ import mujoco
 import numpy as np
 
 from mjtether import _checks
+from mjtether.physics import actuation
 
 KGF = 9.80665
 """Newtons per kilogram-force."""
@@ -57,14 +60,19 @@ class ThrustCurve:
 class Thruster:
     """A thruster on a hull: its thrust acts at ``position`` (m, body frame) along the unit
     ``direction`` (body frame); at most ``max_forward`` N forwards and ``max_reverse`` N
-    backwards; the delivered thrust follows the command with ``time_constant`` (s)."""
+    backwards; the delivered thrust follows the command with ``time_constant`` (s, a first-order
+    lag; 0.1 s where neither it nor ``response`` is given), or through ``response``: a
+    transfer function K(s) = numerator(s) / denominator(s) (coefficients from the highest power
+    of s down, SI), strictly proper, stable, of order 1 to 3 and unit gain at rest (a thrust
+    asked for long enough is delivered). Give one of the two."""
 
     name: str
     position: tuple
     direction: tuple
     max_forward: float
     max_reverse: float
-    time_constant: float = 0.1
+    time_constant: float | None = None
+    response: tuple | None = None  # (numerator, denominator); a TOML table {numerator, denominator}
 
     def __post_init__(self):
         object.__setattr__(self, "position", tuple(_checks.vector3(f"{self.name}.position", self.position)))
@@ -74,13 +82,33 @@ class Thruster:
         object.__setattr__(self, "direction", tuple(d / np.linalg.norm(d)))
         _checks.positive(f"{self.name}.max_forward", self.max_forward, "N")
         _checks.non_negative(f"{self.name}.max_reverse", self.max_reverse, "N")
-        _checks.positive(f"{self.name}.time_constant", self.time_constant, "s")
+        if self.response is None:
+            tau = 0.1 if self.time_constant is None else self.time_constant
+            _checks.positive(f"{self.name}.time_constant", tau, "s")
+            object.__setattr__(self, "time_constant", float(tau))
+            return
+        if self.time_constant is not None:
+            raise ValueError(f"{self.name}: give time_constant (a first-order lag) or response (a transfer "
+                             "function), not both")
+        r = self.response
+        if isinstance(r, dict):
+            extra = set(r) - {"numerator", "denominator"}
+            if extra or len(r) != 2:
+                raise ValueError(f"{self.name}.response must be a table of numerator and denominator (coefficients "
+                                 f"from the highest power of s down), got keys {sorted(r)}")
+            r = (r["numerator"], r["denominator"])
+        if not (isinstance(r, (tuple, list)) and len(r) == 2):
+            raise ValueError(f"{self.name}.response must be a table of numerator and denominator (coefficients from "
+                             f"the highest power of s down), got {r!r}")
+        num, den = actuation.check_response(f"{self.name}.response", *r)
+        object.__setattr__(self, "response", (tuple(map(float, num)), tuple(map(float, den))))
 
 
 def add_thruster(spec: mujoco.MjSpec, body: str, th: Thruster) -> str:
     """Add ``th`` to the body named ``body``: a site ``{body}/{th.name}`` whose x axis is the
-    thrust direction, and an actuator of the same name (control: thrust wanted, N). Returns the
-    actuator's name."""
+    thrust direction, and an actuator of the same name (control: thrust wanted, N). A thruster with
+    a ``response`` is discretised for the spec's time step as it is now (``physics.actuation``;
+    ``vehicle.Vehicle`` re-discretises it for the compiled model's). Returns the actuator's name."""
     b = spec.body(body)
     if b is None:
         raise ValueError(f"add_thruster: no body named {body!r} in the spec")
@@ -97,8 +125,15 @@ def add_thruster(spec: mujoco.MjSpec, body: str, th: Thruster) -> str:
     b.add_site(name=name, pos=list(th.position), quat=list(quat), size=[0.02, 0.0, 0.0])
     a = spec.add_actuator(name=name, target=name, trntype=mujoco.mjtTrn.mjTRN_SITE)
     a.gear = [1.0, 0.0, 0.0, 0.0, 0.0, 0.0]
-    a.dyntype = mujoco.mjtDyn.mjDYN_FILTEREXACT
-    a.dynprm[0] = th.time_constant
+    if th.response is None:
+        a.dyntype = mujoco.mjtDyn.mjDYN_FILTEREXACT
+        a.dynprm[0] = th.time_constant
+    else:
+        a.dyntype = mujoco.mjtDyn.mjDYN_USER
+        a.actdim = len(th.response[1]) - 1
+        a.dynprm = list(actuation.response_parameters(*th.response, (-th.max_reverse, th.max_forward),
+                                                      spec.option.timestep))
+        actuation.install()
     a.gaintype = mujoco.mjtGain.mjGAIN_FIXED
     a.gainprm[0] = 1.0
     a.biastype = mujoco.mjtBias.mjBIAS_NONE

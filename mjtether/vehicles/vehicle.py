@@ -40,7 +40,7 @@ import mujoco
 import numpy as np
 
 from mjtether import _checks
-from mjtether.physics import compiled
+from mjtether.physics import actuation, compiled
 from mjtether.physics.rigidbody import make_not_simple
 
 from .fins import fin_wrench
@@ -297,8 +297,11 @@ class BoundVehicle:
         self.fins, self.propeller = tuple(vm.fins), vm.propeller
         self._size = np.asarray(vm.size, dtype=float)
         self._thr = np.array([[*t.position, *t.direction] for t in vm.thrusters], dtype=float).reshape(-1, 6)
-        self._thr_act = np.array([model.actuator_actadr[model.actuator(f"{vm.name}/{t.name}").id]
-                                  for t in vm.thrusters], dtype=np.int64)
+        thr_ids = [model.actuator(f"{vm.name}/{t.name}").id for t in vm.thrusters]
+        for t, a in zip(vm.thrusters, thr_ids):  # a transfer-function response, for this model's step
+            if t.response is not None:
+                actuation.set_response(model, a, *t.response)
+        self._thr_act = np.asarray(actuation.delivered(model, np.array(thr_ids, dtype=int)), dtype=np.int64)
         # the fins' angles and the shaft speed are their actuators' activations
         self._fin_act = np.array([model.actuator_actadr[model.actuator(f"{vm.name}/{f.name}").id]
                                   for f in self.fins], dtype=int)
