@@ -4,8 +4,8 @@ Everything inside mjtether is SI. Knots appear only in user-facing inputs and
 outputs and are converted here, in one place.
 """
 
-KNOT = 0.514444
-"""One knot in metres per second (1852 m / 3600 s)."""
+KNOT = 1852.0 / 3600.0
+"""One knot in metres per second: 1852 m (a nautical mile) in 3600 s, exactly."""
 
 
 def knots(value: float) -> float:
