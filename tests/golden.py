@@ -119,6 +119,11 @@ and say which here:
   3.8e-2 (``walker_ship_follows``: its gait's footing), ``TetherWinch-v0``'s and
   ``TetheredWalker-v0``'s observations by 6e-3 (rewards by 0.21 and 6e-4); ``TetheredROV-v0``'s
   tow force at one step by 9 N of 18 (its slack tether's snap, sampled), its rewards by 0.02.
+* one knot is 1852/3600 m/s exactly (``units.KNOT``; it was 0.514444, 8.6e-7 slow): every run
+  with a speed in knots moved, the anchored runs and the environments by at most 8.3e-7 of an
+  array's largest value, the walkers by up to 3.8e-3 (``walker_ship_follows``' rows,
+  ``walker_bathymetry``'s 1.2e-3: their gaits' footing on thresholds); every other run
+  unchanged bit for bit.
 
     python tests/golden.py   # rewrites tests/data/golden_runs.npz
 """
