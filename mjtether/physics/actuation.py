@@ -25,7 +25,10 @@ this layout) gets NaN activations, which the run's divergence check reports:
 The callback is process-wide. mjtether installs it when it builds such an actuator
 (``install``) and leaves it installed: the compiled one (``native.act_dyn_callback``), which
 MuJoCo calls itself on any thread (``mujoco.rollout``'s too), where numba runs; else the Python
-one here. MuJoCo calls it for ``dyntype="user"`` actuators only.
+one here. MuJoCo calls it for ``dyntype="user"`` actuators only. Like the Python passive-force
+callback, the Python one fails a ``spec.compile()`` of such a model (MuJoCo runs the pipeline on
+an ``mjData`` the bindings do not know): compile with ``dispatch.compile_spec``, which frees both
+slots while it compiles (``Simulation`` does).
 
 Units SI; the time step in s.
 """
@@ -118,13 +121,23 @@ def _act_dyn(m: mujoco.MjModel, d: mujoco.MjData, i: int) -> float:
     return float(out[-1])
 
 
+_installed: list = []  # the callback installed (kept alive here), once one is
+
+
 def install() -> None:
     """Install the process's ``mjcb_act_dyn`` (the module docstring); cheap after the first call."""
     from mjtether.physics import dispatch, native
 
     with dispatch.suspended():  # (the native check compiles two small probe models the first time)
         cb = native.act_dyn_callback() if native.available() else _act_dyn
+    _installed[:] = [cb]
     mujoco.set_mjcb_act_dyn(cb)
+
+
+def reinstall() -> None:
+    """Put back the callback ``install`` installed, if any (after ``dispatch.suspended``)."""
+    if _installed:
+        mujoco.set_mjcb_act_dyn(_installed[0])
 
 
 def set_response(model: mujoco.MjModel, actuator: int, numerator, denominator) -> None:

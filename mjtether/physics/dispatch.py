@@ -32,7 +32,7 @@ from typing import Callable
 
 import mujoco
 
-from mjtether.physics import native
+from mjtether.physics import actuation, native
 
 Provider = Callable[[mujoco.MjModel, mujoco.MjData], None]
 
@@ -120,17 +120,20 @@ def unregister(data: mujoco.MjData) -> None:
 
 @contextlib.contextmanager
 def suspended():
-    """Free the slot while MuJoCo compiles a model.
+    """Free the slots (``mjcb_passive``, and ``actuation``'s ``mjcb_act_dyn``) while MuJoCo
+    compiles a model.
 
     Compiling runs the pipeline on an ``mjData`` that Python does not know, and the binding
     then fails the callback ("engine error: Python exception raised"). Compile inside this
     block (``Simulation`` and ``add_tether`` do) while other simulations are live.
     """
     mujoco.set_mjcb_passive(None)
+    mujoco.set_mjcb_act_dyn(None)
     try:
         yield
     finally:
         _install()
+        actuation.reinstall()
 
 
 def compile_spec(spec: mujoco.MjSpec) -> mujoco.MjModel:

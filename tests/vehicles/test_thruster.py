@@ -9,6 +9,7 @@ import mujoco
 import numpy as np
 import pytest
 
+from mjtether.physics import dispatch
 from mjtether.vehicles.thruster import KGF, ThrustCurve, Thruster, add_thruster
 
 # Hong et al. (2020), Sec. 2.4.1: dead zone about 1.6-3.2 V, 29.12 kgf forward, 13.83 kgf reverse;
@@ -43,7 +44,7 @@ def _hull(thruster, dt=0.002):
     b.add_freejoint()
     b.add_geom(type=mujoco.mjtGeom.mjGEOM_SPHERE, size=[0.2, 0.0, 0.0], mass=50.0)
     name = add_thruster(spec, "hull", thruster)
-    m = spec.compile()
+    m = dispatch.compile_spec(spec)  # (frees the callback slots while compiling: a Python act_dyn fails a compile)
     return m, mujoco.MjData(m), m.actuator(name).id
 
 
