@@ -1,14 +1,15 @@
 """Propeller thrusters as MuJoCo actuators: a force along a site's x axis on the hull, with a
-first-order response and asymmetric saturation, and the thrust curve that turns a control
+first-order (or higher-order, transfer-function) response and asymmetric saturation, and the thrust curve that turns a control
 voltage into the thrust asked of it (dead zone, different forward and reverse maxima).
 
 The actuator's control is the thrust wanted (N); MuJoCo clips it to [-max_reverse, max_forward]
 (``ctrlrange``) and lags it by ``time_constant`` (its ``filterexact`` activation is the thrust
 delivered), or, where the thruster gives a ``response`` (a transfer function from thrust asked
 to thrust delivered, e.g. von Benzon et al.'s 2022 third-order K(s)), passes it through that
-(``physics.actuation``: the activation's last element is the thrust delivered). A ``ThrustCurve`` gives that control from a command voltage as the thruster tests
-of Hong et al. (2020, J. Mar. Sci. Eng. 8, 485) measure it: no thrust inside a dead zone,
-linear beyond it up to the forward and reverse maxima.
+(``physics.actuation``: the activation's last element is the thrust delivered). A
+``ThrustCurve`` gives that control from a command voltage as the thruster tests of Hong et al.
+(2020, J. Mar. Sci. Eng. 8, 485) measure it: no thrust inside a dead zone, linear beyond it up
+to the forward and reverse maxima.
 
 Units SI (thrust N; the papers' kgf are converted at the edges); body frame x forward, y left,
 z up.

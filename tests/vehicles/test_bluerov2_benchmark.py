@@ -150,11 +150,12 @@ def test_thruster_step_is_the_step_response_of_eq_19(dt):
     steps the thruster's three states exactly for a command held over the step, so nothing but
     rounding separates them: tolerance 1e-9 of 30 N (measured 1e-11 at both steps). K(s) starts
     with zero slope, reaches 0.999 at 40 ms, dips to 0.853 at 73 ms and is within 5 % from
-    about 0.12 s; a single lag could share only its mean delay (0.0287 s) and missed it by up to 0.28
-    of the step."""
+    about 0.12 s; a single lag could share only its mean delay (0.0287 s) and missed it by up to
+    0.28 of the step."""
     t, _, _, act = _fly(1.0, thrust=_full_heave(1.0), dt=dt)
     _, y = signal.step((K_NUM, K_DEN), T=np.r_[0.0, t])
-    np.testing.assert_allclose(np.abs(act[:, 4:]), np.repeat(F_MAX * y[1:, None], 4, axis=1), rtol=0.0, atol=1e-9 * F_MAX)
+    expected = np.repeat(F_MAX * y[1:, None], 4, axis=1)  # the four vertical thrusters
+    np.testing.assert_allclose(np.abs(act[:, 4:]), expected, rtol=0.0, atol=1e-9 * F_MAX)
 
 
 def _their_heave(seconds):

@@ -115,8 +115,8 @@ def test_a_response_thruster_delivers_the_closed_form_step_response_and_saturate
     command held over the step; rounding is left). The actuator's force on the hull is that
     thrust (the last activation, the one MuJoCo's gain multiplies). Then -100 N: it settles at
     the 30 N reverse limit."""
-    th = Thruster("stern", (-0.5, 0.0, 0.0), (1.0, 0.0, 0.0), 80.0, 30.0, response=dict(zip(("numerator", "denominator"),
-                                                                                        SECOND)))
+    th = Thruster("stern", (-0.5, 0.0, 0.0), (1.0, 0.0, 0.0), 80.0, 30.0,
+                  response={"numerator": SECOND[0], "denominator": SECOND[1]})  # (as a vehicle file's table)
     m, d, a = _hull(th)
     assert m.actuator_actnum[a] == 2 and m.actuator_dyntype[a] == mujoco.mjtDyn.mjDYN_USER
     y = _step_through(m, d, a, 100.0, 500)
