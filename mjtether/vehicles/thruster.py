@@ -1,6 +1,7 @@
 """Propeller thrusters as MuJoCo actuators: a force along a site's x axis on the hull, with a
-first-order (or higher-order, transfer-function) response and asymmetric saturation, and the thrust curve that turns a control
-voltage into the thrust asked of it (dead zone, different forward and reverse maxima).
+first-order (or a transfer function's) response and asymmetric saturation, and the thrust
+curve that turns a control voltage into the thrust asked of it (dead zone, different forward
+and reverse maxima).
 
 The actuator's control is the thrust wanted (N); MuJoCo clips it to [-max_reverse, max_forward]
 (``ctrlrange``) and lags it by ``time_constant`` (its ``filterexact`` activation is the thrust
