@@ -39,6 +39,8 @@ import mujoco
 import numpy as np
 from scipy import signal
 
+from mjtether.physics import compiled
+
 ORDER_MAX = 3
 """The highest order of a response: 4 + 2 n numbers must fit MuJoCo's 10 ``dynprm``."""
 
@@ -92,12 +94,13 @@ def response_parameters(numerator, denominator, ctrlrange, dt: float) -> np.ndar
     return prm
 
 
+@compiled.jit
 def response_act_dot(prm, x, u, dt, out) -> None:
     """``out[:] =`` the activation rate that carries the states ``x`` (the actuator's
     activations) over one Euler step of ``dt`` (s, the model's) to their exact next value under
     the command ``u`` held over the step, for ``dynprm`` ``prm`` (the module docstring); NaN where
-    ``prm`` is for another step or another order than ``x``'s. Plain loops: numba compiles it
-    for the native callback."""
+    ``prm`` is for another step or another order than ``x``'s. Compiled (``compiled.jit``; the
+    native callback inlines it), so that ``jitcache`` stamps this module's source."""
     n = int(prm[0])
     if n < 1 or n > ORDER_MAX or n != x.shape[0] or prm[1] != dt:
         for i in range(x.shape[0]):

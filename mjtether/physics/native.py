@@ -497,9 +497,6 @@ def _mjcb_passive(m, d):
     _passive_here(_address(m), _address(d))
 
 
-_response_act_dot = _jit(actuation.response_act_dot)
-
-
 @_jit
 def _act_dyn_here(mp, dp, i):
     """``actuation``'s activation rate for actuator ``i`` of the model at ``mp``, written to the
@@ -514,7 +511,7 @@ def _act_dyn_here(mp, dp, i):
     act_dot = numba.carray(_f64(_field(dp, offs, ACT_DOT)), (adr + k,))[adr:]
     u = numba.carray(_f64(_field(dp, offs, CTRL)), (i + 1,))[i]
     dt = numba.carray(_f64(mp), (offs[TIMESTEP] + 1,))[offs[TIMESTEP]]
-    _response_act_dot(prm, act, u, dt, act_dot)
+    actuation.response_act_dot(prm, act, u, dt, act_dot)
     return act_dot[k - 1]
 
 

@@ -80,3 +80,29 @@ def test_the_first_run_says_it_compiles_then_never_again(tmp_path, monkeypatch, 
     assert jitcache.warm()
     assert cli.main(["run", str(f), "--out", str(tmp_path / "b"), "--no-plots"]) == 0
     assert "compiling" not in capsys.readouterr().err
+
+
+def test_every_compiled_function_is_stamped_by_its_own_source():
+    """The stamp covers the source of every function numba compiles in the package, wherever the
+    compiled object is kept: a function defined in one module and compiled (or inlined) from
+    another is stamped through its defining module's file. Found: a kernel compiled in
+    ``native`` from a plain function of ``actuation`` left ``actuation.py`` out of the stamp."""
+    import importlib
+    import pkgutil
+
+    import mjtether
+    from mjtether.physics import jitcache
+
+    stamped = set(jitcache.kernel_modules())
+    seen = 0
+    for info in pkgutil.walk_packages(mjtether.__path__, "mjtether."):
+        module = importlib.import_module(info.name)
+        for value in vars(module).values():
+            py_func = getattr(value, "py_func", None)
+            if py_func is None or not hasattr(value, "signatures"):  # not a numba dispatcher
+                continue
+            source = Path(py_func.__code__.co_filename).resolve()
+            if source.is_relative_to(PACKAGE.resolve()):
+                seen += 1
+                assert str(source.relative_to(PACKAGE.resolve())) in stamped, (info.name, py_func.__name__, source)
+    assert seen > 20
