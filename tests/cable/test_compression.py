@@ -142,12 +142,13 @@ def test_in_a_current_the_top_holds_the_suspended_weight_less_the_drag():
     """The payout above, stopped at 400 m and held, in a 2 kn current across the line: there the
     drag on the swept line has a vertical part of about 40 % of the line's weight (the laid line
     slides on the frictionless seabed, so nothing is steady), and the still-water balance above
-    is about 40 % off (measured 38-42 % from 100 s to 130 s). Newton's second law for the hanging line still holds, and is the check: at
-    each of 100, 110, ..., 200 s, the vertical force the ship holds equals, over the nodes clear
-    of the seabed (each with half of each of its elements, as the cable is lumped), their weight
-    in water, less the vertical drag on them, plus their inertia, plus the vertical part of the
-    pull of the element that reaches down to the first node on the seabed (its tension from
-    MuJoCo's constraint force, not a readout). The drag is Morison's, worked out here from the
+    is about 40 % off (measured 38-42 % from 100 s to 130 s). Newton's second law for the
+    hanging line still holds, and is the check: at each of 100, 110, ..., 200 s, the vertical
+    force the ship holds equals, over the nodes clear of the seabed (each with half of each of
+    its elements, as the cable is lumped), their weight in water, less the vertical drag on
+    them, plus their inertia, plus the vertical part of the pull of the element that reaches
+    down to the first node on the seabed (its tension from MuJoCo's constraint force, not a
+    readout). The drag is Morison's, worked out here from the
     nodes' positions and their velocities over +-1 step in the current (normal C_d 1.2 on d,
     tangential 0.008 on pi d; ``TetherSpec``'s defaults, typed in), the inertia from their
     accelerations (added mass C_a 1 on the normal part). Tolerance 2 %, the issue's: measured
