@@ -148,10 +148,10 @@ def test_in_a_current_the_top_holds_the_suspended_weight_less_the_drag():
     its elements, as the cable is lumped), their weight in water, less the vertical drag on
     them, plus their inertia, plus the vertical part of the pull of the element that reaches
     down to the first node on the seabed (its tension from MuJoCo's constraint force, not a
-    readout). The drag is Morison's, worked out here from the
-    nodes' positions and their velocities over +-1 step in the current (normal C_d 1.2 on d,
-    tangential 0.008 on pi d; ``TetherSpec``'s defaults, typed in), the inertia from their
-    accelerations (added mass C_a 1 on the normal part). Tolerance 2 %, the issue's: measured
+    readout). The drag is Morison's, worked out here from the nodes' positions and their
+    velocities over +-1 step in the current (normal C_d 1.2 on d, tangential 0.008 on pi d;
+    ``TetherSpec``'s defaults, typed in), the inertia from their accelerations (added mass C_a 1
+    on the normal part). Tolerance 2 %, the issue's: measured
     0.11 % at 100 s, 0.023 % at 110 s and under 0.011 % from 120 s on. Without the drag term the
     balance is 67-72 % off, without the touchdown element's pull up to 2.6 %."""
     rho, d, mu, cdn, cdt, ca = 1025.0, 0.03, 1.5, 1.2, 0.008, 1.0
