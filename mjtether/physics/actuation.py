@@ -137,8 +137,15 @@ def install() -> None:
     mujoco.set_mjcb_act_dyn(cb)
 
 
+def release() -> None:
+    """Free the slot while MuJoCo compiles (``dispatch.suspended``), if mjtether holds it: a
+    callback other code installed is left alone."""
+    if _installed:
+        mujoco.set_mjcb_act_dyn(None)
+
+
 def reinstall() -> None:
-    """Put back the callback ``install`` installed, if any (after ``dispatch.suspended``)."""
+    """Put back the callback ``install`` installed, if any (after ``release``)."""
     if _installed:
         mujoco.set_mjcb_act_dyn(_installed[0])
 

@@ -128,7 +128,7 @@ def suspended():
     block (``Simulation`` and ``add_tether`` do) while other simulations are live.
     """
     mujoco.set_mjcb_passive(None)
-    mujoco.set_mjcb_act_dyn(None)
+    actuation.release()
     try:
         yield
     finally:

@@ -303,10 +303,10 @@ class BoundVehicle:
                 actuation.set_response(model, a, *t.response)
         self._thr_act = np.asarray(actuation.delivered(model, np.array(thr_ids, dtype=int)), dtype=np.int64)
         # the fins' angles and the shaft speed are their actuators' activations
-        self._fin_act = np.array([model.actuator_actadr[model.actuator(f"{vm.name}/{f.name}").id]
+        self._fin_act = np.array([actuation.delivered(model, model.actuator(f"{vm.name}/{f.name}").id)
                                   for f in self.fins], dtype=int)
         self._prop_act = (None if vm.propeller is None else
-                          int(model.actuator_actadr[model.actuator(f"{vm.name}/{vm.propeller.name}").id]))
+                          int(actuation.delivered(model, model.actuator(f"{vm.name}/{vm.propeller.name}").id)))
         # the compiled kernel (``compiled.vehicle_wrench``), where it runs and knows the water's
         # profiles and the hull (a subclass of Hull with a wrench of its own runs in NumPy)
         known_hull = vm.hydro.hull is None or type(vm.hydro.hull) is Hull

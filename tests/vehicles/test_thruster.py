@@ -199,3 +199,23 @@ def test_bad_responses_are_named(response, message):
 def test_time_constant_and_response_together_are_refused():
     with pytest.raises(ValueError, match="port: give time_constant .* or response .*, not both"):
         Thruster("port", (0, 0, 0), (1, 0, 0), 100.0, 50.0, time_constant=0.1, response=SECOND)
+
+
+def test_a_compile_leaves_another_codes_act_dyn_callback_alone():
+    """Until mjtether builds a response thruster, the process's ``mjcb_act_dyn`` is not its own:
+    compiling through ``dispatch`` (as every Simulation does) keeps a callback other code set.
+    Run in a fresh process, where mjtether has installed none."""
+    import subprocess
+    import sys
+    import textwrap
+
+    code = textwrap.dedent("""
+        import mujoco
+        from mjtether.physics import dispatch
+        theirs = lambda m, d, i: 0.0
+        mujoco.set_mjcb_act_dyn(theirs)
+        dispatch.compile_spec(mujoco.MjSpec.from_string("<mujoco><worldbody/></mujoco>"))
+        assert mujoco.get_mjcb_act_dyn() is theirs, mujoco.get_mjcb_act_dyn()
+    """)
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert r.returncode == 0, r.stderr[-2000:]
