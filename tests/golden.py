@@ -124,6 +124,11 @@ and say which here:
   array's largest value, the walkers by up to 3.8e-3 (``walker_ship_follows``' rows,
   ``walker_bathymetry``'s 1.2e-3: their gaits' footing on thresholds); every other run
   unchanged bit for bit.
+* a steady start falling onto a sloped or gridded seabed settles at the run's own step, not a
+  quarter of it (``start.preroll``'s ``substeps``; the finer steps are for a guessed shape):
+  ``walker_bathymetry`` and ``walker_up_slope`` start from another moment of their walkers'
+  jitter, their tow forces (tens of N) moved by up to 27 N and 7 N, their ship tensions by up to
+  0.6 % and 0.17 %, their nodes by up to 0.46 m and 0.10 m; every other run unchanged bit for bit.
 
     python tests/golden.py   # rewrites tests/data/golden_runs.npz
 """

@@ -210,7 +210,8 @@ class ScenarioRun:
             self.controllers = [c for c in (self.gait_drive, self.pilot, ship, winch) if c is not None]
             # (alone, or on an empty drum, a vehicle starts as placed: there are no contacts to load)
             if self.tethered and not empty and not replay:
-                start.preroll(self, settle or drape, until_still=drape)
+                start.preroll(self, settle or drape, until_still=drape,
+                              substeps=start.FALLBACK_SUBSTEPS if settle else 1)
         except BaseException:
             self.sim.close()  # a run that cannot start leaves nothing registered
             raise

@@ -413,14 +413,16 @@ def check_at_fairlead(top, tow_point, position, tol: float = 0.01) -> None:
                           f"{float(np.linalg.norm(gap)):.3g} m away): robot.position = {fix}", "robot.position")
 
 
-def preroll(run, settle: bool, until_still: bool = False) -> None:
+def preroll(run, settle: bool, until_still: bool = False, substeps: int = 1) -> None:
     """Put the walker in its standing pose, then pre-roll ``run`` (a ``runner.ScenarioRun``):
     soft contacts carry the laid cable's (and the walker's) weight only once they are pressed
-    in; PREROLL_S of standing still lets them load, then t is reset to 0. A settling start is
-    far from equilibrium: it settles for SETTLE_S with finer steps, the walker held (a vehicle
-    flying its first setpoint), then PREROLL_S released; ``until_still``: and on, SETTLE_S / 2
-    at a time, until no node moves faster than STILL (up to MAX_SETTLE_S). The ship and the
-    winch do not move (a vessel carrying the winch holds its station on its autopilot)."""
+    in; PREROLL_S of standing still lets them load, then t is reset to 0. A settling start
+    settles for SETTLE_S, the walker held (a vehicle flying its first setpoint), then PREROLL_S
+    released; ``until_still``: and on, SETTLE_S / 2 at a time, until no node moves faster than
+    STILL (up to MAX_SETTLE_S). ``substeps``: steps per time step, all through (a start from a
+    guessed shape, far from equilibrium, takes FALLBACK_SUBSTEPS; a steady state falling onto
+    a sloped or gridded seabed takes the run's own step). The ship and the winch do not move
+    (a vessel carrying the winch holds its station on its autopilot)."""
     sim = run.sim
     m, dt = sim.model, sim.model.opt.timestep
     gait = run.gait_drive
@@ -433,7 +435,7 @@ def preroll(run, settle: bool, until_still: bool = False) -> None:
         for name, u in run.stand_ctrl.items():  # (the walker's: a vessel's thrusters are the pilot's)
             d.ctrl[m.actuator(name).id] = u
         sim.forward()
-    sub = 1 if not settle else FALLBACK_SUBSTEPS
+    sub = int(substeps)
     m.opt.timestep = dt / sub
     try:
         if settle:  # (a vehicle flies its first setpoint meanwhile: it is not held in place)
