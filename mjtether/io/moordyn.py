@@ -36,8 +36,11 @@ and starts from its steady state), FricDamp (mjtether's friction sticks exactly)
 options and the OUTPUTS section. Refused, naming the feature and the file's line: rods on
 bodies, a line with bending stiffness on a rod's end (MoorDyn clamps it), line failure, SYROPE
 line types, viscoelastic ('|') or nonlinear (a curve file) EA, BA in N s, VIV (Cl != 0), waves
-(WaveKin), MoorDyn's dynamic current files (Currents 2, 4, 5) and static friction other than
-kinetic (StatDynFricScale). A 3-D seafloor (SeafloorFile, beside the file
+(WaveKin), MoorDyn's dynamic current files (Currents 2, 4, 5), static friction other than
+kinetic (StatDynFricScale), OpenFAST MoorDyn-F's external loads and line controls (EXTERNAL
+LOADS, CONTROL: MoorDyn-C 2.7 skips them) and, as MoorDyn-C refuses them, points, lines, rods
+or bodies numbered out of turn. OUTPUTS that name a line, point, rod or body the file does not
+have, which MoorDyn-C refuses, are a warning (``moordyn_outputs``). A 3-D seafloor (SeafloorFile, beside the file
 or in the working folder, where MoorDyn-C looks) becomes the seabed's height field. MoorDyn-C
 pushes its nodes straight up from it and rubs them horizontally; mjtether's contact and
 friction act along the seabed's normal and tangent plane, so on a slope they differ.
@@ -53,6 +56,11 @@ import warnings
 from dataclasses import dataclass
 from pathlib import Path
 
+from mjtether.io.moordyn_beside import CURRENT_FILE  # noqa: F401 - re-exported: where a current profile goes
+from mjtether.io.moordyn_beside import number as _number
+from mjtether.io.moordyn_beside import read_current_profile as _current_profile
+from mjtether.io.moordyn_beside import seafloor_path as _seafloor
+from mjtether.io.moordyn_outputs import unknown_objects
 from mjtether.scenario import ScenarioError, load_scenario
 from mjtether.scenario.stable_step import stable_timestep
 
@@ -79,7 +87,10 @@ _SECTIONS = {
     "OPTIONS": ("OPTIONS",),
     "OUTPUTS": ("OUTPUTS",),
 }
-_REFUSED_SECTIONS = {"FAILURE": "line failure", "SYROPE IC": "SYROPE line types"}
+_MOORDYN_F = ("EXTERNAL LOADS", "CONTROL")  # (OpenFAST's MoorDyn-F; MoorDyn-C 2.7 skips them: a header naming one)
+_REFUSED_SECTIONS = {"FAILURE": "line failure", "SYROPE IC": "SYROPE line types",
+                     "EXTERNAL LOADS": "external loads (MoorDyn-F's; MoorDyn-C 2.7 skips them)",
+                     "CONTROL": "line length controls (MoorDyn-F's)"}
 # MoorDyn-C's option names and aliases (MoorDyn2.cpp, readOptionsLine), lower case
 _OPTION_ALIASES = {"dt": "dtm", "gravity": "g", "wtrdnsty": "rho", "kb": "kbot", "cb": "cbot", "icdt": "dtic",
                    "ictmax": "tmaxic", "icdfac": "cdscaleic", "icthresh": "threshic",
@@ -113,6 +124,8 @@ def is_moordyn(text: str) -> bool:
 
 def _section_of(line: str) -> str | None:
     up = line.upper()
+    if up.strip(" -\t").startswith(_MOORDYN_F):
+        return next(k for k in _MOORDYN_F if up.strip(" -\t").startswith(k))
     for key, names in _SECTIONS.items():
         if any(n in up for n in names):
             return key
@@ -147,11 +160,9 @@ def _table(name, sec, key):
     return rows[0], rows[2:]
 
 
-def _number(name, no, text, what):
-    try:
-        return float(text)
-    except ValueError:
-        raise ScenarioError(f"{name}: line {no}: {what} must be a number, got {text!r}") from None
+def _in_turn(name, no, given, k, what):
+    if given != str(k):  # (MoorDyn-C: "... ID must be sequential starting from 1")
+        raise ScenarioError(f"{name}: line {no}: {what} IDs must run 1, 2, 3, ... (as MoorDyn requires); got {given!r}")
 
 
 def _word(text: str) -> tuple[str, str]:
@@ -282,7 +293,8 @@ def parse(text: str, name: str = "<moordyn>") -> Parsed:
     bodies = {}
     if "BODIES" in sec:
         _, body_rows = _table(name, sec, "BODIES")
-        for no, f in body_rows:
+        for k, (no, f) in enumerate(body_rows, 1):
+            _in_turn(name, no, f[0], k, "body")
             bodies[f[0]] = _body(name, no, f, Body)
             rows[f"body{f[0]}"] = no
 
@@ -297,8 +309,7 @@ def parse(text: str, name: str = "<moordyn>") -> Parsed:
         if len(f) < 9:
             raise ScenarioError(f"{name}: line {no}: a point needs 9 fields (ID Attachment X Y Z Mass Volume CdA Ca) "
                                 f"or 12 (with Fx Fy Fz before CdA), got {len(f)}")
-        if f[0] != str(k):
-            raise ScenarioError(f"{name}: line {no}: point IDs must run 1, 2, 3, ... (as MoorDyn requires); got {f[0]!r}")
+        _in_turn(name, no, f[0], k, "point")
         xyz = [_number(name, no, x, "X/Y/Z") for x in f[2:5]]
         mass, volume = _number(name, no, f[5], "Mass"), _number(name, no, f[6], "Volume")
         force = [0.0, 0.0, 0.0]
@@ -337,6 +348,7 @@ def parse(text: str, name: str = "<moordyn>") -> Parsed:
     for k, (no, f) in enumerate(line_rows, 1):
         if len(f) < 6:
             raise ScenarioError(f"{name}: line {no}: a line needs ID LineType AttachA AttachB UnstrLen NumSegs")
+        _in_turn(name, no, f[0], k, "line")
         if f[1] not in types:
             raise ScenarioError(f"{name}: line {no}: line type {f[1]!r} is not in LINE TYPES ({', '.join(types)})")
         ends = []
@@ -369,53 +381,11 @@ def parse(text: str, name: str = "<moordyn>") -> Parsed:
             raise ScenarioError(f"{name}: line {rows['point' + pid]}: free point {pid} is in no line")
     if depth <= 0:
         raise ScenarioError(f"{name}: line {sec.get('OPTIONS', (1,))[0]}: WtrDpth (the water depth, m) is needed")
+    counts = {"line": len(lines), "point": len(table("POINTS")), "rod": len(table("RODS")), "body": len(table("BODIES"))}
+    for no, why in unknown_objects(sec.get("OUTPUTS", (0, []))[1], counts):
+        warnings.warn(f"{name}: line {no}: {why}", MoorDynWarning, stacklevel=3)
     return Parsed(name, types, points, bodies, lines, rows, depth, rho, g, opt("kbot", 3.0e6), opt("cbot", 3.0e5),
                   opt("frictioncoefficient", 0.0), opt("tmaxic", 120.0), notes, current, seafloor)
-
-
-def _seafloor(name: str, no: int, value: str) -> str:
-    """The absolute path of a SeafloorFile named on line ``no``: beside the input file, or in the
-    working folder (where MoorDyn-C looks); checked as a bathymetry grid."""
-    from mjtether.physics import bathymetry
-    here = Path(name).parent if name != "<moordyn>" else Path.cwd()
-    found = next((p for p in (here / value, Path.cwd() / value) if p.is_file()), None)
-    if found is None:
-        raise ScenarioError(f"{name}: line {no}: SeafloorFile {value}: no such file beside the input file ({here}) "
-                            f"nor in the working folder ({Path.cwd()}, where MoorDyn-C looks)")
-    try:
-        bathymetry.read_moordyn_seafloor(found)
-    except ValueError as exc:
-        raise ScenarioError(f"{name}: line {no}: SeafloorFile: {exc}") from None
-    return str(found.resolve())
-
-
-CURRENT_FILE = "current_profile.txt"
-"""MoorDyn's steady current profile, beside the input file: three header lines, then rows of
-z (m, up), ux, uy, uz (m/s)."""
-
-
-def _current_profile(name: str, no: int) -> tuple:
-    """(depths m, speeds m/s, headings deg) of the ``CURRENT_FILE`` beside the file ``name``."""
-    path = Path(name).parent / CURRENT_FILE
-    try:
-        rows = path.read_text().splitlines()[3:]
-    except OSError as exc:
-        raise ScenarioError(f"{name}: line {no}: Currents = 1 reads {path}: {exc.strerror or exc}") from None
-    table = []
-    for k, row in enumerate(rows, 4):
-        f = row.split()
-        if not f:
-            continue
-        v = [_number(str(path), k, x, "z/ux/uy/uz") for x in f[:4]] + [0.0] * (4 - len(f[:4]))
-        if v[3] != 0.0:
-            raise ScenarioError(f"{path}: line {k}: a vertical current (uz = {v[3]:g} m/s) is not supported by "
-                                "mjtether")
-        if v[0] <= 0.0:
-            table.append((-v[0], math.hypot(v[1], v[2]), math.degrees(math.atan2(v[2], v[1]))))
-    if not table:
-        raise ScenarioError(f"{path}: line 4: no row of the current profile is in the water (z <= 0)")
-    table.sort()
-    return tuple(zip(*table))
 
 
 def _held_kind(word: str, rod: bool = False) -> str | None:
@@ -443,9 +413,10 @@ def _rods(name, sec, notes):
             raise ScenarioError(f"{name}: line {no}: a rod type needs TypeName Diam Mass/m Cd Ca CdEnd CaEnd")
         rod_types[f[0]] = [_number(name, no, x, "a rod type's Diam/Mass/Cd/Ca/CdEnd/CaEnd") for x in f[1:7]]
     out = []
-    for no, f in _table(name, sec, "RODS")[1]:
+    for k, (no, f) in enumerate(_table(name, sec, "RODS")[1], 1):
         if len(f) < 10:
             raise ScenarioError(f"{name}: line {no}: a rod needs ID RodType Attachment Xa Ya Za Xb Yb Zb NumSegs")
+        _in_turn(name, no, f[0], k, "rod")
         if f[1] not in rod_types:
             raise ScenarioError(f"{name}: line {no}: rod type {f[1]!r} is not in ROD TYPES ({', '.join(rod_types)})")
         word, _ = _word(f[1 + 1])

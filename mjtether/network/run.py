@@ -18,13 +18,15 @@ on the seabed with their axis on it, as MoorDyn's nodes do: each diameter touche
 of the seabed, lowered by its radius (``_add_seabeds``).
 
 The time step is the largest that every line allows (``cable.stability.max_timestep`` at the
-steady-state tension, and the seabed contact's limit), at most ``MAX_TIMESTEP``; a MoorDyn file's ``dtM``
-is for MoorDyn's explicit integrator and is not used.
+steady-state tension, and the seabed contact's limit), at most ``MAX_TIMESTEP``, halved where a run
+at it diverges (``simulate``); a MoorDyn file's ``dtM`` is for MoorDyn's explicit integrator and
+is not used.
 """
 
 from __future__ import annotations
 
 import csv
+import dataclasses
 import json
 import math
 import time
@@ -374,8 +376,35 @@ def sample(r: NetworkRun) -> list[float]:
 def simulate(net: Network, progress=None) -> tuple[NetworkRun, np.ndarray]:
     """Run ``net`` for its duration; returns the run (at its final state; ``r.sim.close()`` when
     done) and the time series (rows of ``columns``, one per output interval). Raises
-    SimulationDiverged."""
-    r = build(net)
+    SimulationDiverged. Where mjtether chose the step (no ``simulation.timestep``) and the run
+    diverges, it runs again from its start at half the step, up to ``RETRIES`` times, and its
+    note says so: the step limits hold near the steady state, and a start far from it (a line
+    written 40 % longer than its ends allow, released at rest) snaps its nodes to speeds at
+    which the explicit drag needs a finer step."""
+    halved, why = 0, []
+    while True:
+        r = build(net)
+        try:
+            table = _run(r, progress)
+        except SimulationDiverged as exc:
+            if net.timestep is not None or halved == RETRIES:
+                raise
+            why.append(f"{r.timestep:g} s ({exc})")
+            net = dataclasses.replace(net, timestep=r.timestep / 2)
+            halved += 1
+            continue
+        if why:
+            r.note += f"; run at {r.timestep:g} s: the run diverged at " + ", then at ".join(why)
+        return r, table
+
+
+RETRIES = 3
+"""Times a network run at mjtether's own step is run again at half the step after it diverges."""
+
+
+def _run(r: NetworkRun, progress=None) -> np.ndarray:
+    """``simulate``'s run of the built ``r``: its rows; ``r.sim`` closed if it fails."""
+    net = r.net
     try:
         if net.settle > 0 and net.start == "steady":
             settle(r, net.settle)
@@ -398,7 +427,7 @@ def simulate(net: Network, progress=None) -> tuple[NetworkRun, np.ndarray]:
     except BaseException:
         r.sim.close()
         raise
-    return r, table
+    return table
 
 
 def write(r: NetworkRun, rows: np.ndarray, folder, *, source=None, wall_time: float = 0.0) -> None:

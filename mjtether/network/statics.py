@@ -111,8 +111,12 @@ def equilibrium(net: Network, positions: dict) -> tuple[dict, str]:
     if not np.all(np.isfinite(sol.x)) or worst > 1e-6 * ref:
         where = free[int(np.argmax(np.abs(sol.fun))) // 3] if np.all(np.isfinite(sol.fun)) else None
         left = f"{worst:.3g} N left on point {where}" if where is not None else "no finite answer"
-        return dict(positions), (f"the free points' equilibrium was not found ({left}; the statics give a "
-                                 "free point no seabed to rest on): starting from the file's positions")
+        if where is not None and np.all(np.isfinite(sol.x)):
+            p = forces(sol.x)[0][where]
+            if p[2] <= net.seabed_height(p[0], p[1]) + 1e-3 * scale:
+                left += "; the statics give a free point no seabed to rest on"
+        return dict(positions), (f"the free points' equilibrium was not found ({left}): starting from the file's "
+                                 "positions")
     pos, _ = forces(sol.x)
     below = [n for n in free if pos[n][2] < net.seabed_height(pos[n][0], pos[n][1]) - 1e-6]
     if below:

@@ -173,8 +173,11 @@ def catenary(anchor, fairlead, length: float, w: float, *, EA: float | None = No
     V0 = w / 2 * (ZF / math.tanh(lam) + L)
 
     def fun(p):
-        H, VF = math.exp(p[0]), p[1] * w * L
-        rx, rz = _residual(H, VF, XF, ZF, L, w, EA, cb, seabed)
+        try:
+            H, VF = math.exp(float(p[0])), float(p[1]) * w * L
+            rx, rz = _residual(H, VF, XF, ZF, L, w, EA, cb, seabed)
+        except (OverflowError, ZeroDivisionError):  # (a trial far out: H or V/H past a float)
+            return [1e10, 1e10]
         return [rx / L, rz / L]
 
     sol = root(fun, [math.log(H0), V0 / (w * L)], method="hybr", options={"xtol": 1e-13})

@@ -309,3 +309,65 @@ def test_solve_reads_a_moordyn_file(tmp_path):
         assert r.initial is not None and r.initial.laid_length > 100.0
     finally:
         r.close()
+
+
+def _moordyn_c_reads(path) -> bool:
+    """Whether MoorDyn-C 2.7 (the ``moordyn`` package) reads the file at ``path``."""
+    md = pytest.importorskip("moordyn")
+    try:
+        s = md.Create(str(path))
+    except RuntimeError:
+        return False
+    md.Close(s)
+    return True
+
+
+def test_ids_out_of_turn_are_refused_naming_the_line_as_moordyn_c_refuses_them(tmp_path):
+    """MoorDyn-C refuses points, lines, rods and bodies not numbered 1, 2, 3, ... ("ID must be
+    sequential starting from 1"); mjtether too, naming the line, where it would otherwise have
+    read two rods numbered 3 (MoorDyn's own bench/Mooring/floating_rods.txt) as one."""
+    text = chain().replace("1     Chain       1        2        450        40       pt",
+                           "1     Chain       1        2        450        40       pt\n"
+                           "3     Chain       1        2        450        40       pt")
+    (tmp_path / "ids.txt").write_text(text)
+    assert not _moordyn_c_reads(tmp_path / "ids.txt")
+    with pytest.raises(ScenarioError, match=r"ids.txt: line 17: line IDs must run 1, 2, 3, \.\.\. \(as MoorDyn "
+                                            r"requires\); got '3'"):
+        moordyn.read(tmp_path / "ids.txt")
+
+
+def test_an_output_naming_a_missing_line_warns_naming_the_line(tmp_path):
+    """MoorDyn-C refuses a file whose OUTPUTS name a line it does not have ("Invalid Line ID
+    specifier"); mjtether does not use the section, runs the file and warns, naming the line."""
+    (tmp_path / "outs.txt").write_text(chain().replace("FairTen1\n", "FairTen1\nFairTen2\n"))
+    assert not _moordyn_c_reads(tmp_path / "outs.txt")
+    with pytest.warns(moordyn.MoorDynWarning, match=r"line 27: output 'FairTen2' names line 2, and the file has 1 "
+                                                     r"line: MoorDyn-C 2.7 refuses the file"):
+        moordyn.read(tmp_path / "outs.txt")
+
+
+def test_moordyn_f_external_loads_are_refused_which_moordyn_c_skips(tmp_path):
+    """OpenFAST's MoorDyn-F reads an EXTERNAL LOADS section (a force and damping on a body or
+    point); MoorDyn-C 2.7 skips it without a word, and the fairlead's pull is the same with or
+    without it (checked here over its first 0.1 s). mjtether refuses it, naming its first row, rather
+    than run without the load."""
+    md = pytest.importorskip("moordyn")
+    load = ("---------------------- EXTERNAL LOADS ---------------------\nID  Object  Fext  Blin  Bquad  CSys\n"
+            "(#)  (name)  (N)  (Ns/m)  (Ns^2/m^2)  (-)\n1  Point2  1e5|0|0  0  0  G\n")
+    base = chain().replace("0.5           dtIC", "0             TmaxIC\n0.5           dtIC")
+    pulls = []
+    for name, text in (("plain.txt", base), ("loaded.txt", base.replace("---------------------- OPTIONS", load +
+                                                                        "---------------------- OPTIONS"))):
+        (tmp_path / name).write_text(text)
+        s = md.Create(str(tmp_path / name))
+        try:
+            x, v = np.array([0.0, 0.0, -9.0]), np.zeros(3)
+            md.Init(s, x, v)
+            md.Step(s, x, v, 0.0, 0.1)
+            pulls.append(np.array(md.GetPointForce(md.GetPoint(s, 2))))
+        finally:
+            md.Close(s)
+    assert np.array_equal(pulls[0], pulls[1]) and np.linalg.norm(pulls[0]) > 1e5
+    with pytest.raises(ScenarioError, match=r"loaded.txt: line 20: external loads \(MoorDyn-F's; MoorDyn-C 2.7 skips "
+                                            r"them\) \(EXTERNAL LOADS section\) are not supported by mjtether"):
+        moordyn.read(tmp_path / "loaded.txt")

@@ -30,6 +30,7 @@ _spec.loader.exec_module(moordyn_c)
 
 DATA = Path(__file__).resolve().parents[1] / "data" / "moordyn"
 MOORING = DATA / "tests" / "Mooring"
+TESTDATA = DATA.parent
 
 # file: (simulated s, averaging window s); one line, a coupled fairlead and an anchor, read as a scenario
 SCENARIOS = {
@@ -102,6 +103,43 @@ NOT_MATCHED = {
 }
 
 
+# Files from outside the issue's 18 (paths from tests/data): other projects' MoorDyn files
+# (tests/data/moordyn_world, with their sources and licences in its README) and MoorDyn v2.7.1's
+# own bench/Mooring/ files. Run and compared as above; each row's comment is the measured error.
+WORLD_SCENARIOS = {  # one line: (simulated s, averaging window s)
+    "moordyn_world/NREL_MoorPy/examples/volturn_chain.dat": (30.0, 10.0),  # fairlead -0.24 %, anchor -0.36 %
+    "moordyn_world/NREL_MoorPy/tests/case1.dat": (30.0, 10.0),  # -0.08 %, -0.11 %
+    # (MoorDyn-C's catenary start fails for it: "initializing as linear", its IC solver stopping
+    # 8.6 m/s^2 from rest at TmaxIC; settled by 20 s)
+    "moordyn_world/NREL_MoorPy/tests/case5.dat": (30.0, 10.0),  # +0.36 %, anchor 51 kN of 1.37 MN: -0.02 %
+    "moordyn/bench/Mooring/no_waves.txt": (30.0, 10.0),  # -0.59 % (friction 0.5: the anchor as in SCENARIOS)
+}
+WORLD_NETWORKS = {  # several lines, free points, bodies: (simulated s, window s)
+    "moordyn_world/NREL_MoorPy/tests/case7a.dat": (30.0, 10.0),  # -0.01 %
+    # (a three-leg bridle to a coupled spar: each leg a 160 m polyester line to a connecting point
+    # and two 45 m bridles; the statics stall 36 N from balance, and the settle finds it)
+    "moordyn_world/NREL_MoorPy/tests/case8.dat": (30.0, 10.0),  # -0.001 %
+    "moordyn_world/NREL_MoorPy/examples/sample.txt": (30.0, 10.0),  # +0.003 %
+    # (a 240 m buoyant section between two cables, released from the file's positions (TmaxIC 0),
+    # which stretch line 1 by 42 %: it snaps, swings and settles by 120 s in both codes; mjtether's
+    # own 5 ms step diverges in the snap and it runs at half of it, ``network.run.simulate``)
+    "moordyn_world/NREL_MoorPy/tests/case4.dat": (150.0, 10.0),  # -0.22 % (line 2's buoyant end)
+    # (three buoys, each between an anchor chain and a bridle to a coupled float: MoorDyn-C's buoys,
+    # from its IC solver, are still rising at 30 s, 0.5 m below mjtether's; 7 cm at 90 s)
+    "moordyn_world/WEC-Sim_Applications/Mooring/MoorDyn/Mooring/lines.txt": (90.0, 10.0),  # +0.47 %, nodes 9 cm
+}
+WORLD_OPTIONS = {
+    "moordyn_world/NREL_MoorPy/examples/sample.txt": (
+        {"dtM": "1e-3"}, "the file gives no dtM, and at MoorDyn-C's default its run diverges (NaN by 0.6 s)"),
+}
+WORLD_REFUSED = {  # file: (words the refusal must hold, the file's line it must name)
+    "moordyn_world/NREL_MoorPy/examples/MoordynSemiTautUpd.dat": ("viscoelastic line types", 7),
+    "moordyn/bench/Mooring/wavekin_2/wavekin_2.txt": ("waves are not supported", 29),
+    # (MoorDyn-C refuses it too, at the same line: two rods numbered 3)
+    "moordyn/bench/Mooring/floating_rods.txt": ("rod IDs must run 1, 2, 3, ...", 17),
+}
+
+
 def _run(tmp_path, path, duration, sets=()):
     out = tmp_path / "res"
     with warnings.catch_warnings():
@@ -145,6 +183,63 @@ def test_a_single_line_file_matches_moordyn_c(tmp_path, name):
     assert abs(anchor - np.linalg.norm(ref[0])) <= held + 0.01 * scale, (anchor, np.linalg.norm(ref[0]), held)
 
 
+@pytest.mark.parametrize("name", sorted(WORLD_SCENARIOS))
+def test_another_project_s_single_line_file_matches_moordyn_c(tmp_path, name):
+    """As ``test_a_single_line_file_matches_moordyn_c``, on a file of another project: the
+    fairlead tension within 1 %; the anchor's within 1 % of the fairlead's plus the friction the
+    laid line can hold, mu w L_B (none where the file gives no FrictionCoefficient)."""
+    duration, window = WORLD_SCENARIOS[name]
+    path = TESTDATA / name
+    ref_a, ref_b, _ = moordyn_c.end_loads(path, duration, window)[1]
+    rows = _run(tmp_path, path, duration)
+    late = rows["time_s"] >= duration - window
+    ship, anchor = rows["ship_tension_N"][late].mean(), rows["tow_tension_N"][late].mean()
+    scale = np.linalg.norm(ref_b)
+    assert abs(ship - scale) <= 0.01 * scale, (ship, scale)
+    p = moordyn.parse(path.read_text(), str(path))
+    lt = p.line_types[p.lines[0].type]
+    w = (lt.mass_per_length - p.rho * np.pi * lt.diameter ** 2 / 4) * p.gravity  # (N/m in water)
+    held = p.friction * w * rows["length_on_seabed_m"][late].mean()
+    assert abs(anchor - np.linalg.norm(ref_a)) <= held + 0.01 * scale, (anchor, np.linalg.norm(ref_a), held)
+
+
+@pytest.mark.parametrize("name", sorted(WORLD_NETWORKS))
+def test_another_project_s_network_file_matches_moordyn_c(tmp_path, name):
+    """As ``test_a_network_file_matches_moordyn_c``, on a file of another project: every line's
+    end forces within 1 % of its larger one, its nodes within 1 % of its length of MoorDyn-C's.
+    MoorDyn-C runs the file as it is, but for the options in WORLD_OPTIONS (each with its
+    reason)."""
+    duration, window = WORLD_NETWORKS[name]
+    _compare_network(tmp_path, TESTDATA / name, duration, window, WORLD_OPTIONS.get(name, ({}, ""))[0])
+
+
+def test_a_network_run_at_its_own_step_halves_it_where_it_diverges_and_says_so(tmp_path, capsys):
+    """case4.dat (WORLD_NETWORKS): mjtether's own 5 ms step diverges in the first 0.06 s, as its
+    over-stretched line snaps; it is run again at 2.5 ms, and its start note says why. A step the
+    user sets is kept: the run then fails, with no results written."""
+    path = TESTDATA / "moordyn_world/NREL_MoorPy/tests/case4.dat"
+    _run(tmp_path, path, 1.0)
+    summary = json.loads((tmp_path / "res" / "summary.json").read_text())
+    assert summary["timestep_s"] == 0.0025
+    assert "run at 0.0025 s: the run diverged at 0.005 s (simulation diverged at t = " in summary["start"]
+    out = tmp_path / "fixed"
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", moordyn.MoorDynWarning)
+        code = cli.main(["run", str(path), "--set", "simulation.duration=1", "--set", "simulation.timestep=0.005",
+                         "--out", str(out), "--no-plots"])
+    assert code != 0 and not out.exists()
+    assert "simulation diverged" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("name", sorted(WORLD_REFUSED))
+def test_another_project_s_file_mjtether_cannot_run_is_refused_naming_the_feature_and_line(name):
+    words, line = WORLD_REFUSED[name]
+    with pytest.raises(ValueError) as err:
+        moordyn.read(TESTDATA / name)
+    text = str(err.value)
+    assert words in text and re.search(rf"\bline {line}\b", text), text
+
+
 @pytest.mark.parametrize("name", sorted(NETWORKS))
 def test_a_network_file_matches_moordyn_c(tmp_path, name):
     """Every line's end forces (tension, horizontal, vertical, at A and B) and shape (every node
@@ -155,10 +250,15 @@ def test_a_network_file_matches_moordyn_c(tmp_path, name):
     line still rings by +-5 kN about the point's weight; mjtether's critically damped elements
     do not), nodes within 0.6 mm."""
     duration, window = NETWORKS[name]
-    path = DATA / name
+    _compare_network(tmp_path, DATA / name, duration, window, REFERENCE_OPTIONS.get(name, ({}, ""))[0])
+
+
+def _compare_network(tmp_path, path, duration, window, options):
+    """``path`` run by both for ``duration`` s: every line's end forces, averaged over the last
+    ``window`` s, and its final nodes (``_check``; nodes within 1 % of the line's length)."""
     net = moordyn.read(path)
     assert isinstance(net, Network)
-    ref = moordyn_c.end_loads(path, duration, window, options=REFERENCE_OPTIONS.get(name, ({}, ""))[0])
+    ref = moordyn_c.end_loads(path, duration, window, options=options)
     rows = _run(tmp_path, path, duration)
     late = rows["time_s"] >= duration - window
     nodes = np.load(tmp_path / "res" / "lines.npz")
@@ -166,9 +266,9 @@ def test_a_network_file_matches_moordyn_c(tmp_path, name):
         ours = [[rows[f"line{ln.name}_{e}_{k}_N"][late].mean() for k in ("tension", "horizontal", "vertical")]
                 for e in "AB"]
         ra, rb, ref_nodes = ref[int(ln.name)]
-        _check(f"{name} line {ln.name}", ours[0], ours[1], ra, rb)
+        _check(f"{path.name} line {ln.name}", ours[0], ours[1], ra, rb)
         gap = np.linalg.norm(nodes[f"line{ln.name}"] - ref_nodes, axis=1).max()
-        assert gap <= 0.01 * ln.length, f"{name} line {ln.name}: nodes {gap:.3g} m from MoorDyn's"
+        assert gap <= 0.01 * ln.length, f"{path.name} line {ln.name}: nodes {gap:.3g} m from MoorDyn's"
 
 
 @pytest.mark.parametrize("name", sorted(DYNAMIC))
