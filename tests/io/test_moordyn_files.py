@@ -231,15 +231,6 @@ def test_a_network_run_at_its_own_step_halves_it_where_it_diverges_and_says_so(t
     assert "simulation diverged" in capsys.readouterr().err
 
 
-@pytest.mark.parametrize("name", sorted(WORLD_REFUSED))
-def test_another_project_s_file_mjtether_cannot_run_is_refused_naming_the_feature_and_line(name):
-    words, line = WORLD_REFUSED[name]
-    with pytest.raises(ValueError) as err:
-        moordyn.read(TESTDATA / name)
-    text = str(err.value)
-    assert words in text and re.search(rf"\bline {line}\b", text), text
-
-
 @pytest.mark.parametrize("name", sorted(NETWORKS))
 def test_a_network_file_matches_moordyn_c(tmp_path, name):
     """Every line's end forces (tension, horizontal, vertical, at A and B) and shape (every node
@@ -359,11 +350,13 @@ def test_a_pinned_rod_is_not_written_as_a_moordyn_body():
         moordyn.write_network(net)
 
 
-@pytest.mark.parametrize("name", sorted(REFUSED))
-def test_a_file_mjtether_cannot_run_is_refused_naming_the_feature_and_line(name):
-    words, line = REFUSED[name]
+@pytest.mark.parametrize("path, words, line", [(MOORING / n, *REFUSED[n]) for n in sorted(REFUSED)] +
+                         [(TESTDATA / n, *WORLD_REFUSED[n]) for n in sorted(WORLD_REFUSED)],
+                         ids=sorted(REFUSED) + sorted(WORLD_REFUSED))
+def test_a_file_mjtether_cannot_run_is_refused_naming_the_feature_and_line(path, words, line):
+    """MoorDyn's files (REFUSED) and other projects' (WORLD_REFUSED)."""
     with pytest.raises(ValueError) as err:
-        moordyn.read(MOORING / name)
+        moordyn.read(path)
     text = str(err.value)
     assert words in text and re.search(rf"\bline {line}\b", text), text
 
