@@ -40,8 +40,9 @@ line types, viscoelastic ('|') or nonlinear (a curve file) EA, BA in N s, VIV (C
 kinetic (StatDynFricScale), OpenFAST MoorDyn-F's external loads and line controls (EXTERNAL
 LOADS, CONTROL: MoorDyn-C 2.7 skips them) and, as MoorDyn-C refuses them, points, lines, rods
 or bodies numbered out of turn. OUTPUTS that name a line, point, rod or body the file does not
-have, which MoorDyn-C refuses, are a warning (``moordyn_outputs``). A 3-D seafloor (SeafloorFile, beside the file
-or in the working folder, where MoorDyn-C looks) becomes the seabed's height field. MoorDyn-C
+have, which MoorDyn-C refuses, are a warning (``moordyn_outputs``). A 3-D seafloor
+(SeafloorFile, beside the file or in the working folder, where MoorDyn-C looks) becomes the
+seabed's height field. MoorDyn-C
 pushes its nodes straight up from it and rubs them horizontally; mjtether's contact and
 friction act along the seabed's normal and tangent plane, so on a slope they differ.
 

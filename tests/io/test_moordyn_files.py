@@ -105,13 +105,16 @@ NOT_MATCHED = {
 
 # Files from outside the issue's 18 (paths from tests/data): other projects' MoorDyn files
 # (tests/data/moordyn_world, with their sources and licences in its README) and MoorDyn v2.7.1's
-# own bench/Mooring/ files. Run and compared as above; each row's comment is the measured error.
+# own bench/Mooring/ files. Run and compared as above, each for as long as MoorDyn-C takes to settle
+# it (checked to 240 s or longer: its end forces then change by under 1e-4, or 1e-3 on the buoyed
+# networks); each row's comment is the measured error.
 WORLD_SCENARIOS = {  # one line: (simulated s, averaging window s)
     "moordyn_world/NREL_MoorPy/examples/volturn_chain.dat": (30.0, 10.0),  # fairlead -0.24 %, anchor -0.36 %
     "moordyn_world/NREL_MoorPy/tests/case1.dat": (30.0, 10.0),  # -0.08 %, -0.11 %
-    # (MoorDyn-C's catenary start fails for it: "initializing as linear", its IC solver stopping
-    # 8.6 m/s^2 from rest at TmaxIC; settled by 20 s)
-    "moordyn_world/NREL_MoorPy/tests/case5.dat": (30.0, 10.0),  # +0.36 %, anchor 51 kN of 1.37 MN: -0.02 %
+    # (890 m of heavy line between ends 500 m apart, more than the span lies on the seabed: MoorDyn-C's
+    # catenary start fails ("initializing as linear") and its line takes 300 s to settle, passing
+    # within 0.4 % of the answer at 30 s on its way, 3.8 % above it at 60 s; compared over 290-300 s)
+    "moordyn_world/NREL_MoorPy/tests/case5.dat": (300.0, 10.0),  # -0.0002 %, anchor 51 kN of 1.38 MN: -0.014 %
     "moordyn/bench/Mooring/no_waves.txt": (30.0, 10.0),  # -0.59 % (friction 0.5: the anchor as in SCENARIOS)
 }
 WORLD_NETWORKS = {  # several lines, free points, bodies: (simulated s, window s)
@@ -121,12 +124,13 @@ WORLD_NETWORKS = {  # several lines, free points, bodies: (simulated s, window s
     "moordyn_world/NREL_MoorPy/tests/case8.dat": (30.0, 10.0),  # -0.001 %
     "moordyn_world/NREL_MoorPy/examples/sample.txt": (30.0, 10.0),  # +0.003 %
     # (a 240 m buoyant section between two cables, released from the file's positions (TmaxIC 0),
-    # which stretch line 1 by 42 %: it snaps, swings and settles by 120 s in both codes; mjtether's
-    # own 5 ms step diverges in the snap and it runs at half of it, ``network.run.simulate``)
-    "moordyn_world/NREL_MoorPy/tests/case4.dat": (150.0, 10.0),  # -0.22 % (line 2's buoyant end)
+    # which stretch line 1 by 42 %: it snaps, swings and settles in both codes, to 1.5 % by 150 s
+    # (0.22 % apart then) and fully by 300 s; mjtether's own 5 ms step diverges in the snap and it
+    # runs at half of it, ``network.run.simulate``)
+    "moordyn_world/NREL_MoorPy/tests/case4.dat": (300.0, 10.0),  # -0.01 %
     # (three buoys, each between an anchor chain and a bridle to a coupled float: MoorDyn-C's buoys,
-    # from its IC solver, are still rising at 30 s, 0.5 m below mjtether's; 7 cm at 90 s)
-    "moordyn_world/WEC-Sim_Applications/Mooring/MoorDyn/Mooring/lines.txt": (90.0, 10.0),  # +0.47 %, nodes 9 cm
+    # from its IC solver, rise and sway for minutes, its forces 0.5 % apart at 90 s and 150 s)
+    "moordyn_world/WEC-Sim_Applications/Mooring/MoorDyn/Mooring/lines.txt": (300.0, 10.0),  # -0.07 %
 }
 WORLD_OPTIONS = {
     "moordyn_world/NREL_MoorPy/examples/sample.txt": (
@@ -203,7 +207,8 @@ def test_another_project_s_single_line_file_matches_moordyn_c(tmp_path, name):
     assert abs(anchor - np.linalg.norm(ref_a)) <= held + 0.01 * scale, (anchor, np.linalg.norm(ref_a), held)
 
 
-@pytest.mark.parametrize("name", sorted(WORLD_NETWORKS))
+@pytest.mark.parametrize("name", [pytest.param(n, marks=pytest.mark.slow) if WORLD_NETWORKS[n][0] > 100 else n
+                                  for n in sorted(WORLD_NETWORKS)])
 def test_another_project_s_network_file_matches_moordyn_c(tmp_path, name):
     """As ``test_a_network_file_matches_moordyn_c``, on a file of another project: every line's
     end forces within 1 % of its larger one, its nodes within 1 % of its length of MoorDyn-C's.
