@@ -56,7 +56,7 @@ def write(sc: Scenario) -> str:
         "(#) (name)    (#)      (#)      (m)       (-)      (-)",
         f"1 tether 1 2 {t.length!r} {t.segments} -",
         "---------------------- OPTIONS ------------------------------------------------",
-        f"{sc.simulation.timestep!r} dtM",
+        _dtm_option([(mass, t.EA, t.length / t.segments, t.diameter)], *_seabed_of(w)),
         f"{w.gravity!r} g",
         f"{w.density.rho!r} rho",
         f"{w.depth!r} WtrDpth",
@@ -133,9 +133,9 @@ def write_network(net) -> str:
             f"{net.seabed_damping!r} cBot", f"{net.seabed_friction!r} FrictionCoefficient",
             f"{max(net.settle, 1.0)!r} TmaxIC", *(["1 Currents"] if net.current_depths else []),
             *_seafloor_option(net.bathymetry, _refuse),
-            # MoorDyn's explicit step: the smaller of the one its CFL number gives (as its own files set
-            # it) and 1 ms (at the CFL's 2.1 ms alone the example network diverges in MoorDyn-C)
-            "0.1 CFL", "0.001 dtM",
+            _dtm_option([(net.line_types[ln.type].mass_per_length, net.line_types[ln.type].EA,
+                          ln.length / ln.segments, net.line_types[ln.type].diameter) for ln in net.lines],
+                        net.seabed_stiffness, net.seabed_damping),
             "------------------------- need this line --------------------------------------"]
     return "\n".join(out) + "\n"
 
@@ -153,6 +153,40 @@ def current_profile(net) -> str:
         # (z increasing, from the deepest row up: MoorDyn interpolates on an ascending grid)
         rows.append(f"{-d!r} {u * math.cos(math.radians(h))!r} {u * math.sin(math.radians(h))!r} 0.0")
     return "\n".join(rows) + "\n"
+
+
+MOORDYN_CFL = 0.1
+"""The fraction of a period that the written ``dtM`` steps (MoorDyn's CFL number, as its own files
+set it): of each segment's axial period, 2 pi sqrt(m l / (EA / l)) (MoorDyn-C's measure,
+``Util/CFL.hpp``), and of the seabed contact's, 2 pi / sqrt(kBot d / m) per metre of line."""
+MOORDYN_MAX_DTM = 1e-3
+"""The longest ``dtM`` written (s)."""
+
+
+def moordyn_dtm(pieces, kbot: float, cbot: float) -> float:
+    """A step (s) at which MoorDyn-C's explicit integrator runs lines of ``pieces`` [(mass per
+    metre kg/m, EA N, segment length m, diameter m)] on a seabed of ``kbot`` (Pa/m) and ``cbot``
+    (Pa s/m): MOORDYN_CFL of the shortest axial and seabed-contact period, no more than the
+    contact's damping allows explicitly (cBot d dt / m <= 1), and at most MOORDYN_MAX_DTM. mjtether's
+    own step is not MoorDyn's: at 0.0417 s, which MuJoCo takes on MoorDyn's chain files, MoorDyn-C
+    diverges."""
+    dt = MOORDYN_MAX_DTM
+    for m, EA, seg, d in pieces:
+        dt = min(dt, MOORDYN_CFL * 2 * math.pi * math.sqrt(m * seg * seg / EA))
+        if kbot > 0:
+            dt = min(dt, MOORDYN_CFL * 2 * math.pi / math.sqrt(kbot * d / m))
+        if cbot > 0:
+            dt = min(dt, m / (cbot * d))
+    return dt
+
+
+def _dtm_option(pieces, kbot, cbot) -> str:
+    return f"{moordyn_dtm(pieces, kbot, cbot):.6g} dtM"
+
+
+def _seabed_of(w) -> tuple[float, float]:
+    """The kBot and cBot MoorDyn-C runs a scenario's file with (its defaults where none is written)."""
+    return (w.seabed_stiffness, w.seabed_damping) if w.seabed_stiffness > 0 else (3.0e6, 3.0e5)
 
 
 def _tail(n_lines: int) -> list[str]:
@@ -221,7 +255,9 @@ def _write_makeup(sc: Scenario, refuse) -> str:
               "(#) (name)    (#)      (#)      (m)       (-)      (-)"]
     lines += [f"{i + 1} {name} {i + 1} {i + 2} {length!r} {n} -" for i, (name, length, n) in enumerate(rows)]
     lines += ["---------------------- OPTIONS ------------------------------------------------",
-              f"{sc.simulation.timestep!r} dtM", f"{w.gravity!r} g", f"{w.density.rho!r} rho", f"{w.depth!r} WtrDpth",
+              _dtm_option([(sec.mass_per_length, sec.EA, sec.segment_length, sec.diameter) for sec in mk.sections],
+                          *_seabed_of(w)),
+              f"{w.gravity!r} g", f"{w.density.rho!r} rho", f"{w.depth!r} WtrDpth",
               f"{t.seabed_friction!r} FrictionCoefficient", *_seafloor_option(w.bathymetry, refuse)]
     if w.seabed_stiffness > 0:
         lines += [f"{w.seabed_stiffness!r} kBot", f"{w.seabed_damping!r} cBot"]
