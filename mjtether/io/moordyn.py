@@ -17,7 +17,8 @@ least as deep as the lowest point).
 * a ``Scenario`` for one line, or a chain of lines joined end to end at free points (each in
   two lines), from one coupled point (the ship's fairlead) to one fixed point (the anchored
   robot end): a chain is a line make-up, one ``[[tether.sections]]`` per line and a
-  ``[[tether.point_loads]]`` at each free point with mass, volume or drag;
+  ``[[tether.point_loads]]`` at each free point with mass, volume or drag (a chain one tether
+  cannot hold, its lines' CaAx mixing 0 and Ca or a force on a joint, is a network);
 * a ``mjtether.network.Network`` for anything else: several lines sharing points, free points
   and free line ends, fixed, coupled, free or pinned bodies, and rods (fixed, coupled, free or
   pinned at end A: each a rigid cylinder, a body ``rod<n>`` with points ``R<n>A`` and ``R<n>B``
@@ -495,7 +496,8 @@ def read(path=None, *, text: str | None = None, name: str | None = None, overrid
         from mjtether.scenario.loading import _read
         text = _read(name, path)
     p = parse(text, name)
-    if p.bodies or _chain(p) is None:
+    found = None if p.bodies else _chain(p)
+    if found is None or _not_one_tether(name, p, found[0]):  # (a network holds each line as it is)
         return _network(p, overrides)
     tree = _tree(p)
     sc = load_scenario(data=tree, name=name, overrides=overrides)
@@ -577,10 +579,9 @@ def _tether(name, p: Parsed, chain) -> dict:
         ln = chain[0][0]
         lt = p.line_types[ln.type]
         return {"length": ln.length, "segments": ln.segments, **props(lt), "added_mass": lt.added_mass}
-    modes = {p.line_types[ln.type].added_mass for ln, _ in chain}
-    if len(modes) > 1:
-        raise ScenarioError(f"{name}: line {p.rows['line' + chain[0][0].name]}: the lines' CaAx mix 0 and Ca; "
-                            "mjtether's added mass along the tether is one choice for all of it (tether.added_mass)")
+    why = _not_one_tether(name, p, chain)
+    if why:
+        raise ScenarioError(why)
     sections, loads, arc = [], [], 0.0
     for ln, joint in chain:
         sections.append({"length": ln.length, "segments": ln.segments, "name": ln.type,
@@ -588,13 +589,24 @@ def _tether(name, p: Parsed, chain) -> dict:
         arc += ln.length
         if joint is not None:
             q = p.points[joint]
-            if any(q.force):
-                raise ScenarioError(f"{name}: line {p.rows['point' + joint]}: a force on a point of a line make-up "
-                                    "is not supported")
             if q.mass or q.volume or q.cd_area:
                 loads.append({"arc_length": arc, "mass": q.mass, "volume": q.volume, "cd_area": q.cd_area,
                               "ca": q.ca, "name": f"point {joint}"})
-    return {"sections": sections, "point_loads": loads, "added_mass": modes.pop()}
+    return {"sections": sections, "point_loads": loads, "added_mass": p.line_types[chain[0][0].type].added_mass}
+
+
+def _not_one_tether(name, p: Parsed, chain) -> str:
+    """Why a chain of lines is not one scenario tether (a line make-up), or "": its lines' CaAx
+    mix 0 and Ca, or a force acts on a point where two of them join. ``read`` runs such a file
+    as a network; ``to_dict`` (a scenario TOML) refuses it with this."""
+    if len({p.line_types[ln.type].added_mass for ln, _ in chain}) > 1:
+        return (f"{name}: line {p.rows['line' + chain[0][0].name]}: the lines' CaAx mix 0 and Ca; mjtether's added "
+                "mass along a tether is one choice for all of it (tether.added_mass): a network, not a scenario")
+    for _, joint in chain:
+        if joint is not None and any(p.points[joint].force):
+            return (f"{name}: line {p.rows['point' + joint]}: a force on a point of a line make-up is not supported: "
+                    "a network, not a scenario")
+    return ""
 
 
 def _network(p: Parsed, overrides=()):

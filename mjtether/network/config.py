@@ -58,8 +58,9 @@ class LineType:
         _checks.positive(f"{where}: diameter", self.diameter, "m")
         _checks.positive(f"{where}: mass_per_length", self.mass_per_length, "kg/m")
         _checks.positive(f"{where}: EA", self.EA, "N")
-        for key in ("EI", "cd_normal", "ca_normal", "cd_tangential", "ca_tangential"):
-            _checks.non_negative(f"{where}: {key}", getattr(self, key))
+        _checks.non_negative(f"{where}: EI", self.EI)
+        for key in ("cd_normal", "ca_normal", "cd_tangential", "ca_tangential"):  # (as a tether's: TetherSpec)
+            _checks.in_range(f"{where}: {key}", getattr(self, key), 0.0, 10.0)
 
     @property
     def added_mass(self) -> str:

@@ -116,9 +116,17 @@ WORLD_SCENARIOS = {  # one line: (simulated s, averaging window s)
     # within 0.4 % of the answer at 30 s on its way, 3.8 % above it at 60 s; compared over 290-300 s)
     "moordyn_world/NREL_MoorPy/tests/case5.dat": (300.0, 10.0),  # -0.0002 %, anchor 51 kN of 1.38 MN: -0.014 %
     "moordyn/bench/Mooring/no_waves.txt": (30.0, 10.0),  # -0.59 % (friction 0.5: the anchor as in SCENARIOS)
+    # (a chain of three lines, a 200 m^3 buoy and a 100 t clump at the joints: a line make-up with
+    # point loads; MoorDyn-C settles by 240 s)
+    "moordyn_world/NREL_MoorPy/tests/case3.dat": (240.0, 10.0),  # -0.04 %
 }
 WORLD_NETWORKS = {  # several lines, free points, bodies: (simulated s, window s)
     "moordyn_world/NREL_MoorPy/tests/case7a.dat": (30.0, 10.0),  # -0.01 %
+    # (a chain and a polyester rope: one line from anchor to fairlead, but their CaAx mix 0 and Ca,
+    # which one scenario tether cannot hold, so it runs as a network; MoorDyn-C settles by 240 s)
+    "moordyn_world/NREL_MoorPy/tests/case2.dat": (240.0, 10.0),  # -0.004 %
+    # (a W between two anchors at the surface, a buoy and a free point at its joints; by 240 s)
+    "moordyn_world/NREL_MoorPy/tests/case6.dat": (240.0, 10.0),  # -0.002 %, nodes within 1.2 m of 660 m
     # (a three-leg bridle to a coupled spar: each leg a 160 m polyester line to a connecting point
     # and two 45 m bridles; the statics stall 36 N from balance, and the settle finds it)
     "moordyn_world/NREL_MoorPy/tests/case8.dat": (30.0, 10.0),  # -0.001 %
@@ -141,6 +149,8 @@ WORLD_REFUSED = {  # file: (words the refusal must hold, the file's line it must
     "moordyn/bench/Mooring/wavekin_2/wavekin_2.txt": ("waves are not supported", 29),
     # (MoorDyn-C refuses it too, at the same line: two rods numbered 3)
     "moordyn/bench/Mooring/floating_rods.txt": ("rod IDs must run 1, 2, 3, ...", 17),
+    # (Cd 30, beyond mjtether's range for a drag coefficient; MoorDyn-C takes any)
+    "moordyn_world/NREL_MoorPy/tests/case9.dat": ("line type 'main': cd_normal must be in [0.0, 10.0], got 30.0", 5),
 }
 
 
@@ -189,19 +199,25 @@ def test_a_single_line_file_matches_moordyn_c(tmp_path, name):
 
 @pytest.mark.parametrize("name", sorted(WORLD_SCENARIOS))
 def test_another_project_s_single_line_file_matches_moordyn_c(tmp_path, name):
-    """As ``test_a_single_line_file_matches_moordyn_c``, on a file of another project: the
-    fairlead tension within 1 %; the anchor's within 1 % of the fairlead's plus the friction the
-    laid line can hold, mu w L_B (none where the file gives no FrictionCoefficient)."""
+    """As ``test_a_single_line_file_matches_moordyn_c``, on a file of another project (one line,
+    or a chain of lines read as a make-up): the fairlead tension (of the line at the coupled
+    point) within 1 %; the anchor's (the line at the fixed point) within 1 % of the fairlead's
+    plus the friction the laid line can hold, mu w L_B (none where the file gives no
+    FrictionCoefficient)."""
     duration, window = WORLD_SCENARIOS[name]
     path = TESTDATA / name
-    ref_a, ref_b, _ = moordyn_c.end_loads(path, duration, window)[1]
+    p = moordyn.parse(path.read_text(), str(path))
+    at = {q: (ln, end) for ln in p.lines for end, q in enumerate((ln.a, ln.b))}  # point -> (line, 0 A / 1 B)
+    (top, top_end), (bottom, bottom_end) = (at[next(k for k, q in p.points.items() if q.kind == kind)]
+                                            for kind in ("coupled", "fixed"))
+    ref = moordyn_c.end_loads(path, duration, window)
+    ref_b, ref_a = ref[int(top.name)][top_end], ref[int(bottom.name)][bottom_end]
     rows = _run(tmp_path, path, duration)
     late = rows["time_s"] >= duration - window
     ship, anchor = rows["ship_tension_N"][late].mean(), rows["tow_tension_N"][late].mean()
     scale = np.linalg.norm(ref_b)
     assert abs(ship - scale) <= 0.01 * scale, (ship, scale)
-    p = moordyn.parse(path.read_text(), str(path))
-    lt = p.line_types[p.lines[0].type]
+    lt = p.line_types[bottom.type]
     w = (lt.mass_per_length - p.rho * np.pi * lt.diameter ** 2 / 4) * p.gravity  # (N/m in water)
     held = p.friction * w * rows["length_on_seabed_m"][late].mean()
     assert abs(anchor - np.linalg.norm(ref_a)) <= held + 0.01 * scale, (anchor, np.linalg.norm(ref_a), held)
