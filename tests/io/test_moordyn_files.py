@@ -235,6 +235,19 @@ def test_another_project_s_network_file_matches_moordyn_c(tmp_path, name):
     _compare_network(tmp_path, TESTDATA / name, duration, window, WORLD_OPTIONS.get(name, ({}, ""))[0])
 
 
+def test_a_stalled_statics_blames_the_seabed_only_for_a_point_on_it():
+    """case8.dat's statics stall 36 N from balance with its connecting points 50 m above the
+    seabed: the note says how far and where, and not that the statics give a free point no
+    seabed to rest on (which seafloor.txt's note says, its point lying on the seabed)."""
+    from mjtether.network import run, statics
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", moordyn.MoorDynWarning)
+        net = moordyn.read(TESTDATA / "moordyn_world/NREL_MoorPy/tests/case8.dat")
+    _, note = statics.equilibrium(net, run.start_positions(net))
+    assert "the free points' equilibrium was not found (" in note and "seabed" not in note, note
+
+
 def test_a_network_run_at_its_own_step_halves_it_where_it_diverges_and_says_so(tmp_path, capsys):
     """case4.dat (WORLD_NETWORKS): mjtether's own 5 ms step diverges in the first 0.06 s, as its
     over-stretched line snaps; it is run again at 2.5 ms, and its start note says why. A step the
