@@ -34,7 +34,7 @@ import tomllib
 
 from mjtether import _checks
 
-from .tether import MAX_LENGTH, MAX_SEGMENTS, TetherSpec
+from .tether import MAX_COEFFICIENT, MAX_LENGTH, MAX_SEGMENTS, TetherSpec
 
 SNAP = 1e-9
 """A load within this fraction of an element length of a node goes wholly to the node."""
@@ -86,9 +86,9 @@ class Section:
         if self.EA is not None:
             _checks.positive("section.EA", self.EA, "N")
         _checks.non_negative("section.EI", self.EI, "N m^2")
-        _checks.in_range("section.cd_normal", self.cd_normal, 0.0, 10.0)
-        _checks.in_range("section.cd_tangential", self.cd_tangential, 0.0, 10.0)
-        _checks.in_range("section.ca_normal", self.ca_normal, 0.0, 10.0)
+        _checks.in_range("section.cd_normal", self.cd_normal, 0.0, MAX_COEFFICIENT)
+        _checks.in_range("section.cd_tangential", self.cd_tangential, 0.0, MAX_COEFFICIENT)
+        _checks.in_range("section.ca_normal", self.ca_normal, 0.0, MAX_COEFFICIENT)
         _name(self.name, "section.name")
         if self.mbl is not None:
             _checks.positive("section.mbl", self.mbl, "N")
@@ -151,7 +151,7 @@ class PointLoad:
         _checks.non_negative("point_load.mass", self.mass, "kg")
         _checks.non_negative("point_load.volume", self.volume, "m^3")
         _checks.non_negative("point_load.cd_area", self.cd_area, "m^2")
-        _checks.in_range("point_load.ca", self.ca, 0.0, 10.0)
+        _checks.in_range("point_load.ca", self.ca, 0.0, MAX_COEFFICIENT)
         _name(self.name, "point_load.name")
 
     def wet_weight(self, rho_water: float = 1025.0, gravity: float = 9.81) -> float:
@@ -189,7 +189,7 @@ class DistributedBuoyancy:
         _checks.non_negative("distributed_buoyancy.volume_per_length", self.volume_per_length, "m^3/m")
         _checks.non_negative("distributed_buoyancy.mass_per_length", self.mass_per_length, "kg/m")
         _checks.non_negative("distributed_buoyancy.cd_area_per_length", self.cd_area_per_length, "m^2/m")
-        _checks.in_range("distributed_buoyancy.ca", self.ca, 0.0, 10.0)
+        _checks.in_range("distributed_buoyancy.ca", self.ca, 0.0, MAX_COEFFICIENT)
         _name(self.name, "distributed_buoyancy.name")
 
 

@@ -19,6 +19,9 @@ MAX_LENGTH = 1e5
 MAX_SEGMENTS = 5000
 """Most elements a tether may have (one MuJoCo body per node; the run costs about 1 us per element
 and step, and MuJoCo's arena runs out in the tens of thousands)."""
+MAX_COEFFICIENT = 10.0
+"""Largest drag or added-mass coefficient a line takes (Cd, Ca; a cylinder's are near 1): a
+guard against a typo, shared by tethers, make-up sections and network line types."""
 
 
 ADDED_MASS = ("isotropic", "normal")
@@ -81,9 +84,9 @@ class TetherSpec:
             _checks.in_range("tether.density", self.density, 1.0, 20000.0, "kg/m^3")
         if self.mass_per_length is not None:
             _checks.positive("tether.mass_per_length", self.mass_per_length, "kg/m")
-        _checks.in_range("tether.cd_normal", self.cd_normal, 0.0, 10.0)
-        _checks.in_range("tether.cd_tangential", self.cd_tangential, 0.0, 10.0)
-        _checks.in_range("tether.ca_normal", self.ca_normal, 0.0, 10.0)
+        _checks.in_range("tether.cd_normal", self.cd_normal, 0.0, MAX_COEFFICIENT)
+        _checks.in_range("tether.cd_tangential", self.cd_tangential, 0.0, MAX_COEFFICIENT)
+        _checks.in_range("tether.ca_normal", self.ca_normal, 0.0, MAX_COEFFICIENT)
         if self.EA is not None:
             _checks.positive("tether.EA", self.EA, "N")
         _checks.non_negative("tether.EI", self.EI, "N m^2")

@@ -126,8 +126,10 @@ def is_moordyn(text: str) -> bool:
 
 def _section_of(line: str) -> str | None:
     up = line.upper()
-    if up.strip(" -\t").startswith(_MOORDYN_F):
-        return next(k for k in _MOORDYN_F if up.strip(" -\t").startswith(k))
+    title = up.strip(" -\t")
+    for key in _MOORDYN_F:
+        if title.startswith(key):
+            return key
     for key, names in _SECTIONS.items():
         if any(n in up for n in names):
             return key

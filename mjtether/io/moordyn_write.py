@@ -133,8 +133,8 @@ def write_network(net) -> str:
             f"{net.seabed_damping!r} cBot", f"{net.seabed_friction!r} FrictionCoefficient",
             f"{max(net.settle, 1.0)!r} TmaxIC", *(["1 Currents"] if net.current_depths else []),
             *_seafloor_option(net.bathymetry, _refuse),
-            _dtm_option([(net.line_types[ln.type].mass_per_length, net.line_types[ln.type].EA,
-                          ln.length / ln.segments, net.line_types[ln.type].diameter) for ln in net.lines],
+            _dtm_option([(lt.mass_per_length, lt.EA, ln.length / ln.segments, lt.diameter)
+                         for ln, lt in ((ln, net.line_types[ln.type]) for ln in net.lines)],
                         net.seabed_stiffness, net.seabed_damping),
             "------------------------- need this line --------------------------------------"]
     return "\n".join(out) + "\n"

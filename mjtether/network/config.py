@@ -25,7 +25,7 @@ import math
 from dataclasses import dataclass, field
 
 from mjtether import _checks
-from mjtether.cable.tether import TetherSpec
+from mjtether.cable.tether import MAX_COEFFICIENT, TetherSpec
 
 POINT_KINDS = ("fixed", "coupled", "body", "free")
 BODY_KINDS = ("fixed", "coupled", "free", "pinned")
@@ -59,8 +59,8 @@ class LineType:
         _checks.positive(f"{where}: mass_per_length", self.mass_per_length, "kg/m")
         _checks.positive(f"{where}: EA", self.EA, "N")
         _checks.non_negative(f"{where}: EI", self.EI)
-        for key in ("cd_normal", "ca_normal", "cd_tangential", "ca_tangential"):  # (as a tether's: TetherSpec)
-            _checks.in_range(f"{where}: {key}", getattr(self, key), 0.0, 10.0)
+        for key in ("cd_normal", "ca_normal", "cd_tangential", "ca_tangential"):
+            _checks.in_range(f"{where}: {key}", getattr(self, key), 0.0, MAX_COEFFICIENT)
 
     @property
     def added_mass(self) -> str:
