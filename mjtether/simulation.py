@@ -160,7 +160,8 @@ class Simulation:
             raise
 
     def _advance(self, nstep: int) -> None:
-        """``nstep`` MuJoCo steps, switching slack tether elements after each."""
+        """``nstep`` MuJoCo steps, switching slack tether elements after each and tracking
+        every element's peak push (``BoundTether.take_peak_compression``)."""
         self.revision += 1
         if not self.tethers:
             self._t_step = self.data.time + self.model.opt.timestep
@@ -191,6 +192,8 @@ class Simulation:
                 changed = False
                 for t in tethers:  # the last time round, only switch off elements that pushed
                     changed |= t.update_slack(taut=redo < SLACK_REDOS)
+            for t in tethers:  # the pushes of the step as kept (see BoundTether.take_peak_compression)
+                t.track_peak_compression()
 
     def save_state(self):
         """Everything needed to continue exactly from here (MuJoCo's integration state and the
@@ -207,6 +210,7 @@ class Simulation:
         mujoco.mj_setState(self.model, self.data, buf, mujoco.mjtState.mjSTATE_INTEGRATION)
         for k, t in self.tethers.items():
             t.restore_payout(payout[k])
+            t.clear_peak_compression()  # (the pushes tracked led elsewhere)
         w = self.data.warning  # (MuJoCo's warning counts are not part of its state)
         self._bad_acc0 = w[_BADQPOS].number + w[_BADQVEL].number + w[_BADQACC].number
 

@@ -6,7 +6,8 @@
 * ``friction.SeabedContact``: the seabed friction's stick points;
 * ``loads.CableLoads``: the hydrodynamic, bending, point and friction loads, the added mass's
   orientation, and the arrays the native callback reads;
-* ``readouts.TetherReadouts``: tensions, lengths, node positions, end forces.
+* ``readouts.TetherReadouts``: tensions, lengths, node positions, end forces, and each
+  element's largest push since it was last taken (``take_peak_compression``).
 
 ``BoundTether`` offers their methods under one name (``bt.set_length``, ``bt.tension``, ...) and
 is the force provider that ``mjtether.physics.dispatch`` calls (``apply``).
@@ -66,7 +67,9 @@ class BoundTether:
         self.apply, self._loads, self.native_table = self.forces.apply, self.forces.buffer, self.forces.native_table
         self.nodes, self.all_nodes, self.tension, self.element_tension = ro.nodes, ro.all_nodes, ro.tension, \
             ro.element_tension
-        self.element_compression = ro.element_compression
+        self.element_compression, self.take_peak_compression = ro.element_compression, ro.take_peak_compression
+        self.track_peak_compression, self.clear_peak_compression = ro.track_peak_compression, \
+            ro.clear_peak_compression
         self.element_length, self.slack_count, self.stretched_length = ro.element_length, ro.slack_count, \
             ro.stretched_length
         self.end_force, self.end_tension, self._rows = ro.end_force, ro.end_tension, ro.rows

@@ -1,7 +1,8 @@
 """Compiled twins (numba) of a bound tether's per-step bookkeeping: the constraint rows of an
-equality, the tension-only switching, the drum element's payout update and the divergence
-search. The NumPy/Python code they twin (``drum``, ``slack``, ``readouts``, ``Simulation.check``)
-is the reference; ``tests/physics/test_compiled.py`` checks each against it. Units SI."""
+equality, the tension-only switching, the elements' running peak push, the drum element's
+payout update and the divergence search. The NumPy/Python code they twin (``drum``, ``slack``,
+``readouts``, ``Simulation.check``) is the reference; ``tests/physics/test_compiled.py`` checks
+each against it (the peak push: ``tests/cable/test_compression_peak.py``). Units SI."""
 
 from __future__ import annotations
 
@@ -77,6 +78,20 @@ def slack_switch(act, f, ten_length, rest, K, first, f_min, slack_tension, taut,
             changed = True
             redo = redo or over_max > f_over
     return changed, redo
+
+
+@jit
+def peak_push(peak, act, f, first):
+    """``readouts.TetherReadouts.track_peak_compression``: raise ``peak`` (n,) (N) in place to
+    each element's push now: ``act`` (n,) the elements' ``eq_active`` when the forces were
+    computed, ``f`` the active elements' constraint forces in element order (N, > 0 pushes);
+    the elements before ``first`` (on the drum) are left as they are."""
+    r = 0
+    for e in range(act.shape[0]):
+        if act[e]:
+            if e >= first and f[r] > peak[e]:
+                peak[e] = f[r]
+            r += 1
 
 
 @jit

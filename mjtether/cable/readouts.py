@@ -29,6 +29,7 @@ class TetherReadouts:
     def __init__(self, layout: CableLayout, drum: Drum, switch: SlackSwitch):
         self.layout, self.drum, self.switch = layout, drum, switch
         self.row_cache: dict[int, slice] = {}
+        self.peak = np.zeros(layout.n)  # N: each element's largest push since take_peak_compression
 
     def nodes(self, data: mujoco.MjData) -> np.ndarray:
         """Deployed node positions (m, world frame), shape (N+1, 3), the first at the ship."""
@@ -88,6 +89,32 @@ class TetherReadouts:
         out[np.flatnonzero(self.switch.efc_active(data)[L.eqs])] = np.maximum(data.efc_force[rows], 0.0)
         out[:self.drum.first] = 0.0
         return out
+
+    def track_peak_compression(self, data: mujoco.MjData | None = None) -> None:
+        """Raise each element's running peak push to its push now (``element_compression``);
+        ``Simulation`` calls it after every step it takes (the step as kept, after any redo)."""
+        L = self.layout
+        data = L.data if data is None else data
+        if L.fast is None:
+            np.maximum(self.peak, self.element_compression(data), out=self.peak)
+            return
+        rows = self.switch.element_rows(data)  # the same, compiled (kernels.peak_push)
+        if rows.stop > data.nefc:
+            raise RuntimeError("tether compression is available after mj_forward/mj_step")
+        kernels.peak_push(self.peak, self.switch.efc_active(data)[L.eqs], data.efc_force[rows], self.drum.first)
+
+    def take_peak_compression(self, data: mujoco.MjData | None = None) -> np.ndarray:
+        """The largest push of every element's constraint since the last call (N, >= 0), shape
+        (n,): over every step ``Simulation`` took since then and the state now; 0 for elements
+        that were slack or on the drum all along. Resets the peak."""
+        self.track_peak_compression(data)
+        out = self.peak.copy()
+        self.peak[:] = 0.0
+        return out
+
+    def clear_peak_compression(self) -> None:
+        """Forget the pushes tracked so far (``take_peak_compression`` then starts from now)."""
+        self.peak[:] = 0.0
 
     def tension(self, data: mujoco.MjData) -> np.ndarray:
         """Axial tension of the deployed elements (N), shape (N,), the first at the ship."""

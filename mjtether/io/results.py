@@ -9,9 +9,10 @@ Files (all SI units; ``docs/scenarios.md`` lists the CSV columns):
   ``readouts.VEHICLE_FIELDS``, for a run without a vehicle);
 * ``tether.npz``: ``time`` (n,) s; ``nodes`` (n, e+1, 3), node positions in m; ``tension``
   (n, e), element tensions in N (never negative: elements carry tension only; 0 when slack);
-  ``element_length`` (n, e), stretched element lengths in m; ``compression`` (n, e), the push of
-  each element's constraint in N (>= 0: a cable cannot push, so any is the model's error, kept
-  out of ``tension`` and shown here and in ``max_compression``). The e elements allocated are
+  ``element_length`` (n, e), stretched element lengths in m; ``compression`` (n, e), the largest
+  push of each element's constraint since the previous sample, over every time step, in N (>= 0:
+  a cable cannot push, so any is the model's error, kept out of ``tension`` and shown here and in
+  ``max_compression``). The e elements allocated are
   numbered from the drum's core to the robot end, so element j is the same piece of cable all
   run; those still on the drum have length and tension 0, their nodes sit at the fairlead; and
   the MuJoCo state that places every body (ship, robot, nodes) at each sample, ``qpos`` (n, nq),

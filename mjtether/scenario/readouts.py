@@ -64,9 +64,9 @@ RECORD_FIELDS = [
     ("cable_plan_crossings", "", "tangle monitor: how many pairs of such elements cross in plan view"),
     ("cable_wrap", "deg", "tangle monitor: the angle the cable sweeps round the vehicle in plan view within two "
      "hull lengths (or two elements) of it (360: one full turn); only in runs with a vehicle"),
-    ("max_compression", "N", "the largest push of any element's constraint at this sample (>= 0): a cable carries "
-     "tension only, so a push is the model's error, which the tension columns (never negative) leave out; "
-     "tether.npz's compression has every element's"),
+    ("max_compression", "N", "the largest push of any element's constraint since the previous sample, over every "
+     "time step (>= 0): a cable carries tension only, so a push is the model's error, which the tension columns "
+     "(never negative) leave out; tether.npz's compression has every element's"),
 ]
 
 
@@ -135,6 +135,9 @@ class NoTether:
 
     element_tension = element_length = element_compression = tension
 
+    def take_peak_compression(self, data=None) -> np.ndarray:
+        return np.zeros(0)
+
     def slack_count(self, data) -> int:
         return 0
 
@@ -168,6 +171,7 @@ class Readouts:
             self.hulls.append(_hull(self._ship_body, run.scene.vessel, False))
         self.last_tangle = None
         """The latest ``tangle()``: what the record and the monitor's events read."""
+        self._peak = (-1, np.zeros(0))  # (simulation revision, N): see peak_compression
 
     # ------------------------------------------------------------------ the tether's ends
 
@@ -356,6 +360,16 @@ class Readouts:
         return self._bt.element_compression(self._sim.data)
 
     @property
+    def peak_compression(self) -> np.ndarray:
+        """The largest push of every element allocated since the previous sample (N, >= 0),
+        over every time step (``BoundTether.take_peak_compression``): reading it at a new state
+        of the simulation ends the interval; read again at the same state, the same values."""
+        rev = self._sim.revision
+        if self._peak[0] != rev:
+            self._peak = (rev, self._bt.take_peak_compression(self._sim.data))
+        return self._peak[1].copy()
+
+    @property
     def slack_elements(self) -> int:
         """Deployed elements carrying no tension."""
         return self._bt.slack_count(self._sim.data)
@@ -442,4 +456,4 @@ class Readouts:
                 bt.deployed_length, self._run.winch.current_rate, ship[0], ship[1], *tow, math.degrees(yaw),
                 math.degrees(roll), math.degrees(pitch), speed, float(x[:, 2].min()), on_bottom,
                 bt.slack_count(d), *(R.T @ moment), *self.tangle_record(x),
-                float(bt.element_compression(d).max(initial=0.0))]
+                float(self.peak_compression.max(initial=0.0))]

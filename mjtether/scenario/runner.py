@@ -212,6 +212,8 @@ class ScenarioRun:
             if self.tethered and not empty and not replay:
                 start.preroll(self, settle or drape, until_still=drape,
                               substeps=start.FALLBACK_SUBSTEPS if settle else 1)
+            if self.bt is not None:  # the first sample's pushes are those at t = 0, not the pre-roll's
+                self.bt.clear_peak_compression()
         except BaseException:
             self.sim.close()  # a run that cannot start leaves nothing registered
             raise
@@ -333,10 +335,10 @@ class ScenarioRun:
         return self.named.length_on_seabed(x)
 
     def element_record(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-        """(every node (n+1, 3) m, element tension (n,) N, element length (n,) m, element push
-        (n,) N), numbered from the drum's core; nodes on the drum at the fairlead, their elements 0."""
+        """(every node (n+1, 3) m, element tension (n,) N, element length (n,) m, each element's
+        largest push since the previous sample (n,) N: ``Readouts.peak_compression``), numbered from the drum's core; nodes on the drum at the fairlead, their elements 0."""
         n = self.named
-        return n.element_nodes, n.element_tension, n.element_length, n.element_compression
+        return n.element_nodes, n.element_tension, n.element_length, n.peak_compression
 
     def state(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """The MuJoCo state that places every body (``STATE_FIELDS``): ``qpos`` (nq,), ``mocap_pos``
@@ -422,7 +424,8 @@ class SurfaceWatch:
 
 def run(sc: Scenario, progress=None, keep_nodes: bool = True, video=None, on_start=None, on_end=None):
     """Simulate ``sc``; returns (rows (n, len(RECORD_FIELDS)), history, info). ``history`` has
-    ``nodes`` (n, e+1, 3) m, ``tension`` (n, e) N and ``element_length`` (n, e) m for every one
+    ``nodes`` (n, e+1, 3) m, ``tension`` (n, e) N, ``element_length`` (n, e) m and
+    ``compression`` (n, e) N (the largest push since the previous sample) for every one
     of the e elements allocated (numbered from the drum's core; see ``element_record``), each
     sample (only the first with ``keep_nodes=False``), and ``qpos``, ``mocap_pos`` and ``mocap_quat``
     (``ScenarioRun.state``) at the same samples.

@@ -206,7 +206,8 @@ def test_in_a_current_the_top_holds_the_suspended_weight_less_the_drag():
 
 def test_the_outputs_carry_the_pushes(tmp_path):
     """``max_compression_N`` in timeseries.csv is the largest of the elements' ``compression``
-    in tether.npz at each sample; no element both pulls and pushes."""
+    in tether.npz at each sample (both the largest push since the previous sample: an element
+    may push between samples and pull at one, so the two are not exclusive)."""
     (tmp_path / "pay.toml").write_text(PAYOUT)
     out = tmp_path / "res"
     assert cli.main(["run", str(tmp_path / "pay.toml"), "--out", str(out), "--no-plots"]) == 0
@@ -215,5 +216,4 @@ def test_the_outputs_carry_the_pushes(tmp_path):
         comp, ten = z["compression"], z["tension"]
     assert comp.shape == ten.shape and np.all(comp >= 0.0)
     assert np.allclose(rows["max_compression_N"], comp.max(axis=1), rtol=1e-8, atol=1e-9)
-    assert not np.any((comp > 0) & (ten > 0))
     assert Path(out / "tether.npz").exists() and comp.max() > 0.0
