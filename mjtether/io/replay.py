@@ -66,11 +66,16 @@ class Saved:
                               "the scenario again)")
         try:
             summary = json.loads((d / "summary.json").read_text())
-            run = summary["run"]
-            raw = summary["scenario"]
-            self.simulated_s = float(run["simulated_s"])
+            network = isinstance(summary, dict) and summary.get("kind") == "network"
+            if not network:
+                run = summary["run"]
+                raw = summary["scenario"]
+                self.simulated_s = float(run["simulated_s"])
         except (OSError, ValueError, KeyError, TypeError) as exc:
             raise ReplayError(f"{where}/summary.json: unreadable ({exc.__class__.__name__}: {exc})") from None
+        if network:
+            raise ReplayError(f"{where}: a network's results folder (summary.json kind = network): its replay is "
+                              "not supported yet; its tension.png and profile.png are in the folder")
         self.tethered, self.vehicle = bool(run.get("tethered", True)), bool(run.get("vehicle", True))
         if not self.tethered:
             raise ReplayError(f"{where}: a run without a tether (tether.attached = false) has no tether.npz; its "

@@ -32,6 +32,22 @@ BODY_KINDS = ("fixed", "coupled", "free", "pinned")
 STARTS = ("steady", "as_written")
 DEFAULT_GRAVITY = 9.80665
 """MoorDyn-C's default g (m/s^2)."""
+MAX_HELD_STRAIN = 1.0
+"""The largest stretch (unstretched length's share) a line held at both ends may be written with:
+no mooring material holds 100 % (chain breaks near 2 %, polyester near 15 %, nylon near 30 %),
+so a line that short for its ends is a mistake in the file, refused before a build."""
+LINE_ARRAYS = ("nodes", "tension", "compression")
+"""The per-line arrays of ``lines.npz`` (``lineNAME_nodes`` ...): a line may not be named so that
+one of its arrays takes another line's name."""
+
+
+def waterline_height(volume: float, height: float | None) -> float:
+    """The waterline band (m) of a free point or body of ``volume`` (m^3): ``height`` where given,
+    else that of an upright cylinder of the volume as tall as it is wide, (4 V / pi)^(1/3) (a
+    body of no volume: 0.2 m, where nothing buoys it)."""
+    if height is not None:
+        return float(height)
+    return (4.0 * volume / math.pi) ** (1.0 / 3.0) if volume > 0 else 0.2
 
 
 class NetworkError(ValueError):
@@ -83,7 +99,8 @@ class LineType:
 class Point:
     """A point of the network (see the module docstring); ``position`` in m (world frame, or the
     body's frame for a ``body`` point); mass (kg), volume (m^3), drag area CdA (m^2), added-mass
-    coefficient Ca (on rho V) and a constant force (N, world) for a ``free`` point."""
+    coefficient Ca (on rho V), a constant force (N, world) and the waterline band ``height`` (m;
+    see ``waterline_height``) for a ``free`` point."""
 
     name: str
     kind: str
@@ -94,6 +111,7 @@ class Point:
     cd_area: float = 0.0
     ca: float = 0.0
     force: tuple = (0.0, 0.0, 0.0)
+    height: float | None = None
 
     def __post_init__(self):
         where = f"point {self.name!r}"
@@ -105,14 +123,17 @@ class Point:
         object.__setattr__(self, "force", tuple(_checks.vector3(f"{where}: force", self.force)))
         for key in ("mass", "volume", "cd_area", "ca"):
             _checks.non_negative(f"{where}: {key}", getattr(self, key))
+        if self.height is not None:
+            _checks.in_range(f"{where}: height", self.height, 1e-3, 1e3, "m")
 
 
 @dataclass(frozen=True)
 class Body:
     """A rigid body: pose (m; roll, pitch, yaw in degrees), mass (kg), centre of gravity (m, body
     frame), principal inertia (kg m^2), volume (m^3), drag areas CdA (m^2, per body axis) and
-    added-mass coefficients (on rho V, per body axis). A ``pinned`` body turns about its ``pin``
-    (m, body frame), which stays where the pose puts it."""
+    added-mass coefficients (on rho V, per body axis), the waterline band ``height`` (m; see
+    ``waterline_height``). A ``pinned`` body turns about its ``pin`` (m, body frame), which stays
+    where the pose puts it."""
 
     name: str
     kind: str
@@ -125,6 +146,7 @@ class Body:
     cd_area: tuple = (0.0, 0.0, 0.0)
     ca: tuple = (0.0, 0.0, 0.0)
     pin: tuple = (0.0, 0.0, 0.0)
+    height: float | None = None
 
     def __post_init__(self):
         where = f"body {self.name!r}"
@@ -134,6 +156,8 @@ class Body:
             object.__setattr__(self, key, tuple(_checks.vector3(f"{where}: {key}", getattr(self, key))))
         _checks.non_negative(f"{where}: mass", self.mass)
         _checks.non_negative(f"{where}: volume", self.volume)
+        if self.height is not None:
+            _checks.in_range(f"{where}: height", self.height, 1e-3, 1e3, "m")
         if self.kind in ("free", "pinned") and (self.mass <= 0 or min(self.inertia) <= 0):
             raise NetworkError(f"{where}: a {self.kind} body needs a mass (kg) and inertia (kg m^2) > 0")
         if self.kind != "pinned" and any(self.pin):
@@ -272,6 +296,12 @@ class Network:
         if len(set(names)) != len(names):
             raise NetworkError(f"lines: names must differ, got {names}")
         for ln in self.lines:
+            taken = [f"{ln.name}_{what}" for what in LINE_ARRAYS if f"{ln.name}_{what}" in names]
+            if taken:
+                raise NetworkError(f"line {taken[0]!r}: its name is that of line {ln.name!r}'s array "
+                                   f"line{taken[0]} in lines.npz; rename it (not ending in _"
+                                   + ", _".join(LINE_ARRAYS) + " after another line's name)")
+        for ln in self.lines:
             if ln.type not in self.line_types:
                 raise NetworkError(f"line {ln.name!r}: type {ln.type!r} is not a line type "
                                    f"({', '.join(self.line_types)})")
@@ -285,6 +315,21 @@ class Network:
         both = set(self.bodies) & set(self.vehicles)
         if both:
             raise NetworkError(f"vehicles: {', '.join(sorted(both))} also named as a body")
+        for ln in self.lines:
+            self._check_held_span(ln)
+
+    def _check_held_span(self, ln) -> None:
+        """Refuse a line held at both ends (fixed or coupled points) whose ends are further apart
+        than ``1 + MAX_HELD_STRAIN`` times its length."""
+        ends = [self.points[pid] for pid in (ln.a, ln.b)]
+        if any(p.kind not in ("fixed", "coupled") for p in ends):
+            return
+        span = math.dist(ends[0].position, ends[1].position)
+        if span > (1.0 + MAX_HELD_STRAIN) * ln.length:
+            raise NetworkError(f"line {ln.name!r}: length {ln.length:g} m between held points {ln.a!r} and {ln.b!r} "
+                               f"{span:g} m apart would stretch it {100 * (span / ln.length - 1):.0f} %; a line "
+                               f"held at both ends needs length >= {span / (1 + MAX_HELD_STRAIN):g} m (stretch "
+                               f"at most {100 * MAX_HELD_STRAIN:.0f} %)")
 
     @property
     def seabed_z(self) -> float:

@@ -3,11 +3,14 @@ point and free body a rigid body with its hydrodynamics, every held point a worl
 
 Each line is added with its end B as the tether's start and end A as its end (MoorDyn's ends:
 A usually the anchor, B the fairlead). A free point is a body with a free joint carrying the
-point's mass, buoyancy (its volume), drag (CdA on each of its axes) and added mass (Ca rho V);
+point's mass, buoyancy (its volume, over its waterline band where it pierces the surface:
+``config.waterline_height``), drag (CdA on each of its axes) and added mass (Ca rho V);
 a point lighter than the end nodes of its lines is given that much more inertia, with its
 weight compensated (MuJoCo's ``gravcomp``), so that the constraints that hold the line ends to
-it are as well conditioned as the rest: the statics are exact, and the point's inertia in the
-dynamics is that of the line ends it joins. Coupled and fixed bodies are held at their pose; a
+it are as well conditioned as the rest: the statics are exact, but a free line end moves with
+twice its inertia (a 10-segment line of 240 kg moves as 264 kg). Giving a massless point its own
+1 g instead moved MoorPy's case8.dat bridle 42 % off MoorDyn-C, so the line end's mass must move
+into the point's body instead (not done yet). Coupled and fixed bodies are held at their pose; a
 free body starts at its given pose (the statics hold it there) and settles; a pinned body turns
 on a ball joint at its pin (its added mass there as the diagonal of the rigid-body transform to
 the pin, ``rigidbody.BoundBodyHydro``). A vehicle is its
@@ -36,7 +39,7 @@ from pathlib import Path
 import mujoco
 import numpy as np
 
-from mjtether.cable import builder, stability
+from mjtether.cable import builder, softening, stability
 from mjtether.physics import water as wm
 from mjtether.physics.rigidbody import RigidBodyHydro, add_body_hydro
 from mjtether.scenario.controllers import VehiclePilot
@@ -44,7 +47,7 @@ from mjtether.simulation import Simulation, SimulationDiverged
 from mjtether.vehicles.files import build_vehicle
 
 from . import statics
-from .config import Network
+from .config import Network, waterline_height
 
 MAX_TIMESTEP = 0.005
 """Longest step taken (s): bodies, vehicles and free points have no stability limit of their own in
@@ -92,19 +95,39 @@ def start_positions(net: Network) -> dict:
 
 
 def timestep_for(net: Network, states: dict, water: wm.WaterColumn) -> float:
-    """The largest stable step (s) of every line at its steady tension and of the seabed contact."""
-    dts = [MAX_TIMESTEP]
+    """The largest step (s) at which every line is stable and keeps its EA at its steady tension
+    (``stability.max_timestep(keep_EA=True)``, as a scenario's line: ``scenario.stable_step``) and
+    the seabed contact is stable, at most ``MAX_TIMESTEP`` where free points, moving bodies or
+    vehicles are in it (they have no stability limit of their own yet) and the scenario's
+    ``stable_step.MAX_TIMESTEP`` where every point is held."""
+    from mjtether.scenario.stable_step import MAX_TIMESTEP as HELD_MAX
+    moving = net.vehicles or any(p.kind == "free" for p in net.points.values()) \
+        or any(b.kind in MOVING for b in net.bodies.values())
+    dts = [MAX_TIMESTEP if moving else HELD_MAX]
     for ln in net.lines:
         lt = net.line_types[ln.type]
         tspec = lt.tether(ln.length, ln.segments)
         st = states[ln.name]
         tension = max(np.linalg.norm(st.force_a), np.linalg.norm(st.force_b))
-        dts.append(stability.max_timestep(tspec, water, tension=tension))  # (the largest current's drag)
+        dts.append(stability.max_timestep(tspec, water, tension=tension, keep_EA=True))  # (the largest current's drag)
         if net.seabed_stiffness > 0:
             dts.append(0.9 * builder.seabed_contact(tspec, net.rho, net.seabed_stiffness, net.seabed_damping)[2])
     dt = min(dts)
     scale = 10.0 ** (math.floor(math.log10(dt)) - 1)
     return math.floor(dt / scale) * scale  # (2 figures, rounded down)
+
+
+def line_softening(r: "NetworkRun") -> dict:
+    """{line: ``softening.softening`` of its deployed elements} (None for no softening report),
+    with an ``EAWarning`` for each line that runs softer than its EA at the run's step."""
+    out = {}
+    for ln in r.net.lines:
+        bt = r.sim.tethers[ln.name]
+        rep = softening.softening(r.net.line_types[ln.type].EA, bt.effective_EA)
+        keep = (f"; a step {rep['ratio'] ** 0.5:.3g} times this one keeps it" if rep is not None else "")
+        softening.warn(f"line {ln.name!r} EA", rep, r.timestep, keep, stacklevel=4)
+        out[ln.name] = rep
+    return out
 
 
 @dataclass
@@ -120,6 +143,7 @@ class NetworkRun:
     vehicle_bodies: dict = None  # vehicle name -> its BoundVehicle
     _scratch: mujoco.MjData | None = field(default=None, repr=False)  # (see poses_now)
     history: dict = field(default_factory=dict)  # line name -> its ``record``s, one per sample
+    effective_EA: dict = field(default_factory=dict)  # line name -> ``softening.softening`` at the step
 
     def advance(self, steps: int) -> None:
         """Step ``steps`` times; with vehicles or winches, their controls act before each step."""
@@ -163,7 +187,7 @@ class NetworkRun:
             h = self.history.setdefault(ln.name, {"nodes": [], "tension": [], "compression": []})
             h["nodes"].append(bt.all_nodes(d)[::-1])
             h["tension"].append(bt.element_tension(d)[::-1])
-            h["compression"].append(bt.element_compression(d)[::-1])
+            h["compression"].append(bt.take_peak_compression(d)[::-1])  # (the largest since the last sample)
 
     def point_position(self, name: str) -> np.ndarray:
         return self.sim.data.xpos[self.point_bodies[name]].copy()
@@ -210,7 +234,7 @@ def build(net: Network) -> NetworkRun:
             body.mass, body.ipos, body.inertia = b.mass, list(b.cg), list(b.inertia)
             hydro.append(add_body_hydro(spec, f"body/{name}", RigidBodyHydro(
                 volume=b.volume, drag_cd=(1.0, 1.0, 1.0), drag_area=b.cd_area,
-                added_mass=tuple(c * net.rho * b.volume for c in b.ca))))
+                added_mass=tuple(c * net.rho * b.volume for c in b.ca), height=waterline_height(b.volume, b.height))))
     for name, v in net.vehicles.items():  # (turned to its heading by its ball joint, below)
         hydro.append(build_vehicle(spec, v.spec, f"body/{name}", pos=v.position))
     end_mass = {}
@@ -231,7 +255,7 @@ def build(net: Network) -> NetworkRun:
         body.add_site(name=f"point/{name}", size=[r, r, r])
         hydro.append(add_body_hydro(spec, f"point/{name}", RigidBodyHydro(
             volume=p.volume, drag_cd=(1.0, 1.0, 1.0), drag_area=(p.cd_area,) * 3,
-            added_mass=(p.ca * net.rho * p.volume,) * 3, height=2 * r)))
+            added_mass=(p.ca * net.rho * p.volume,) * 3, height=waterline_height(p.volume, p.height))))
     tms = {}
     for ln in net.lines:
         lt = net.line_types[ln.type]
@@ -263,7 +287,9 @@ def build(net: Network) -> NetworkRun:
             point_bodies[name] = bid
             sim.data.xfrc_applied[bid, :3] = p.force
     sim.forward()
-    return NetworkRun(net, sim, point_bodies, note, dt, pilots, vehicle_bodies)
+    r = NetworkRun(net, sim, point_bodies, note, dt, pilots, vehicle_bodies)
+    r.effective_EA = line_softening(r)
+    return r
 
 
 def _add_seabeds(spec: mujoco.MjSpec, net: Network, water: wm.WaterColumn) -> dict:
@@ -410,6 +436,8 @@ def _run(r: NetworkRun, progress=None) -> np.ndarray:
             settle(r, net.settle)
         every = max(1, round(net.output_interval / r.timestep))
         total = max(1, round(net.duration / r.timestep))
+        for bt in r.sim.tethers.values():  # (the settling's pushes are not the run's)
+            bt.clear_peak_compression()
         rows = [sample(r)]
         r.record()
         done = 0
@@ -430,13 +458,15 @@ def _run(r: NetworkRun, progress=None) -> np.ndarray:
     return table
 
 
-def write(r: NetworkRun, rows: np.ndarray, folder, *, source=None, wall_time: float = 0.0) -> None:
+def write(r: NetworkRun, rows: np.ndarray, folder, *, source=None, wall_time: float = 0.0,
+          plots: bool = True) -> None:
     """The results of a run into ``folder`` (an empty staging folder): ``timeseries.csv``,
-    ``lines.npz`` and ``summary.json``. ``lines.npz`` holds ``time_s`` (the samples' times, s)
+    ``lines.npz``, ``summary.json`` and, with ``plots``, ``tension.png`` and ``profile.png``
+    (``network.plots``). ``lines.npz`` holds ``time_s`` (the samples' times, s)
     and, per line NAME, from end A to end B: ``lineNAME`` (its final deployed nodes, m),
     ``lineNAME_nodes`` (samples, n+1, 3; m), ``lineNAME_tension`` and ``lineNAME_compression``
-    (samples, n; N, >= 0: each element's pull, and the push its constraint made, which a cable
-    cannot and the tension leaves out; see ``NetworkRun.record``)."""
+    (samples, n; N, >= 0: each element's pull, and the largest push its constraint made since the
+    previous sample, which a cable cannot and the tension leaves out; see ``NetworkRun.record``)."""
     folder = Path(folder)
     net = r.net
     cols = columns(net)
@@ -464,13 +494,18 @@ def write(r: NetworkRun, rows: np.ndarray, folder, *, source=None, wall_time: fl
                             "final_A_tension_N": final[f"line{ln.name}_A_tension_N"],
                             "final_B_tension_N": final[f"line{ln.name}_B_tension_N"],
                             "peak_tension_N": float(rows[:, [cols.index(f"line{ln.name}_{e}_tension_N")
-                                                             for e in "AB"]].max())}
+                                                             for e in "AB"]].max()),
+                            "effective_EA": r.effective_EA.get(ln.name)}
                   for ln in net.lines},
     }
+    if plots:
+        from . import plots as network_plots
+        summary["plots"] = network_plots.write(folder, r, rows, cols)
     (folder / "summary.json").write_text(json.dumps(summary, indent=2))
 
 
-def run_to(net: Network, out, *, overwrite: bool = False, source=None, progress=None) -> tuple[NetworkRun, np.ndarray]:
+def run_to(net: Network, out, *, overwrite: bool = False, source=None, progress=None,
+           plots: bool = True) -> tuple[NetworkRun, np.ndarray]:
     """Simulate ``net`` and write its results folder ``out`` whole or not at all; returns the run
     (its simulation closed) and the time series."""
     from mjtether.io.outdir import Staging, check_target
@@ -479,7 +514,7 @@ def run_to(net: Network, out, *, overwrite: bool = False, source=None, progress=
     r, rows = simulate(net, progress=progress)
     try:
         with Staging(target, overwrite=overwrite) as stage:
-            write(r, rows, stage.path, source=source, wall_time=time.perf_counter() - t0)
+            write(r, rows, stage.path, source=source, wall_time=time.perf_counter() - t0, plots=plots)
             stage.commit()
     finally:
         r.sim.close()
