@@ -472,6 +472,7 @@ def _solve(args) -> int:
         print(f"  force on the ship     {ss.top_force} N  (tension {ss.top_tension:.1f} N)")
         print(f"  force on the tow point {ss.bottom_force} N  (tension {ss.tow_tension:.1f} N)")
         print(f"  lowest point z = {ss.nodes[:, 2].min():.2f} m; on the seabed: {ss.laid_length:.1f} m")
+        _print_tow_note(r, ss)
         _print_khan(r)
     finally:
         r.close()
@@ -480,6 +481,38 @@ def _solve(args) -> int:
 
 def _no_steady_state(note: str) -> str:
     return note if note.startswith("no steady state") else f"no steady state: {note}"
+
+
+def _print_tow_note(r, ss) -> None:
+    """What the steady tow tension is, and why a run's and Khan et al.'s differ from it: the tow point
+    holds the cable rising to it from the seabed; the tension at the touchdown is held by seabed
+    friction on the laid cable (taken fully mobilised, as a run starts: ``preload_friction``), less
+    of it, or none, reaching the tow point; a walking walker drags its laid cable."""
+    import numpy as np
+
+    from mjtether.scenario.start import rise_weight_per_length
+
+    if ss.laid_length <= 0.0:
+        return
+    x, y, z = (float(v) for v in r.robot_position)
+    w = rise_weight_per_length(r.scene, z)
+    rise = max(z - float(r.seabed_z(x, y)) - r.scene.contact_diameter / 2, 0.0)
+    cb, laid = r.sc.tether.seabed_friction, ss.laid_length
+    end = float(np.hypot(*ss.bottom_force[:2]))  # (the rising piece adds weight only)
+    touchdown = cb * w * (laid - ss.slack_length) + end
+    rising = f"the {rise:.2f} m of cable rising to it from the seabed ({w * rise:.1f} N in water) and " \
+        if rise > 0.01 else ""
+    if cb > 0.0:
+        held = (f"{end:.1f} N of the {touchdown:.1f} N the line carries at the touchdown, the rest held by seabed "
+                f"friction on the {laid:.1f} m laid (up to tether.seabed_friction x {w:.2f} N/m x {laid:.1f} m = "
+                f"{cb * w * laid:.0f} N, taken as fully mobilised, as a run starts)")
+    else:
+        held = f"all {touchdown:.1f} N the line carries at the touchdown (a frictionless seabed holds none of it)"
+    print(f"  (at rest the tow point holds {rising}{held})")
+    if r.walker and cb > 0.0 and float(r.gait_drive.commands[0, 1]) > 0.0:
+        print(f"  (a run's tow tension is larger once the walker walks: it drags the {laid:.1f} m laid behind it over "
+              f"the seabed against sliding friction, about {cb * w * laid:.0f} N and more as more is laid, and the "
+              "gait jerks it)")
 
 
 def _print_khan(r) -> None:
@@ -511,6 +544,9 @@ def _print_khan(r) -> None:
             continue
         print(f"  {variant:10s} length to reach it {k.length:.1f} m, range {k.range:.1f} m, "
               f"tow tension {k.tow_tension:.1f} N")
+    print(f"  (Khan et al.'s method ignores the seabed: all of its cable hangs in the current from the ship to the "
+          f"tow point, whose tension is that cable's weight and drag; its length is the one that just reaches the "
+          f"walker, not tether.length = {t.length:g} m, part of which lies on the seabed here)")
 
 
 if __name__ == "__main__":

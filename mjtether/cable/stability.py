@@ -33,7 +33,8 @@ explicitly. The explicit parts set the largest stable step, and ``max_timestep``
   (measured: 1.04-1.35 x and 1.24-1.4 x the drum limit; a fast reel-in passes the shortest
   drum element in a few steps).
 * **Not limits.** The axial mode, the seabed contact, the connects and the added mass: their
-  parameters follow the step. Robots and other bodies have limits of their own: the walker
+  parameters follow the step (the axial mode's as long as it is damped at
+  ``tether.MIN_AXIAL_DAMPING_RATIO`` of critical or more: below it no step settles it). Robots and other bodies have limits of their own: the walker
   of ``mjtether.walker`` (position servos of kp = 2e4 on 2 kg m^2 of armature, soft foot
   contacts), alone and walking at 0.3 m/s for 10 s, covers the distance it covers at 5 ms to
   1 % at 0.0125 s, 6-8 % fast at 0.02-0.025 s, 9 % short at 0.035 s, and stumbles at 0.045 s;

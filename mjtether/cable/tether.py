@@ -22,6 +22,18 @@ and step, and MuJoCo's arena runs out in the tens of thousands)."""
 MAX_COEFFICIENT = 10.0
 """Largest drag or added-mass coefficient a line takes (Cd, Ca; a cylinder's are near 1): a
 guard against a typo, shared by tethers, make-up sections and network line types."""
+MIN_AXIAL_DAMPING_RATIO, MAX_AXIAL_DAMPING_RATIO = 0.3, 10.0
+"""Range of ``TetherSpec.axial_damping_ratio``. Measured (tests/cable/test_axial_damping_bound.py;
+catenaries of 100-160 m between fixed points, started 5-30 % of an element off their static shape,
+steps 1-20 ms): at 0 the run diverges within a second; at 0.05-0.15 the axial modes (slowed to
+``builder.AXIAL_OMEGA_DT`` / dt, the constraint's damping applied explicitly) never settle: the top
+tension swings between about 1 N and 2-50 kN and its mean is 2-360 % off; from 0.2-0.25 up it
+settles on the closed-form catenary (mean within 0.05 %) as at 1. 0.3 leaves a margin."""
+MAX_REACH_STRAIN = 1e-3
+"""The most an elastic tether may be stretched to reach its ends at the start (a scenario's
+``_check_reach`` and ``start.steady_start``): a taut line's stretch under its working load (Hong et
+al.'s 3 m platform tether starts at 1.7e-5). Before, up to 10 % was let through: the default walker
+with 205 m of tether for its 214 m span started near 220 kN and diverged in 0.06 s, blaming the step."""
 
 
 ADDED_MASS = ("isotropic", "normal")
@@ -45,7 +57,8 @@ class TetherSpec:
             the strain at working tension below 1e-3; see ``mjtether.cable.builder``).
         EI: bending stiffness (N m^2); 0 for a perfectly flexible cable.
         axial_damping_ratio: damping ratio of the axial (stretch) mode of one element, as the
-            internal damping MoorDyn calls BA expressed relative to critical.
+            internal damping MoorDyn calls BA expressed relative to critical; in
+            [MIN_AXIAL_DAMPING_RATIO, MAX_AXIAL_DAMPING_RATIO] (below, the tensions ring).
         added_mass: ``"isotropic"`` (default): each node's added mass C_a rho A l on all three
             axes, along the cable too, where a slender cylinder has none; ``"normal"``: normal to
             the cable only (see ``mjtether.cable.builder``), which reproduces the flexible jumper of Lowe
@@ -90,7 +103,12 @@ class TetherSpec:
         if self.EA is not None:
             _checks.positive("tether.EA", self.EA, "N")
         _checks.non_negative("tether.EI", self.EI, "N m^2")
-        _checks.in_range("tether.axial_damping_ratio", self.axial_damping_ratio, 0.0, 10.0)
+        zeta = _checks.finite("tether.axial_damping_ratio", self.axial_damping_ratio)
+        if not MIN_AXIAL_DAMPING_RATIO <= zeta <= MAX_AXIAL_DAMPING_RATIO:
+            why = ": below it the cable's stretch modes do not settle (the tensions swing or diverge)" \
+                if zeta < MIN_AXIAL_DAMPING_RATIO else ""
+            raise ValueError(f"tether.axial_damping_ratio must be in [{MIN_AXIAL_DAMPING_RATIO}, "
+                             f"{MAX_AXIAL_DAMPING_RATIO}] (fraction of critical), got {self.axial_damping_ratio!r}{why}")
         if self.added_mass not in ADDED_MASS:
             raise ValueError(f"tether.added_mass must be one of {', '.join(ADDED_MASS)}, got {self.added_mass!r}")
         if self.drag_law not in DRAG_LAWS:

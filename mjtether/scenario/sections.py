@@ -22,7 +22,7 @@ import numpy as np
 
 from mjtether.cable.makeup import load_line_types
 from mjtether.physics.hydro import DRAG_LAWS
-from mjtether.cable.tether import MAX_LENGTH, MAX_SEGMENTS, TetherSpec
+from mjtether.cable.tether import MAX_LENGTH, MAX_REACH_STRAIN, MAX_SEGMENTS, TetherSpec
 from mjtether.cable.winch import MODES as WINCH_MODES
 from mjtether.cable.winch import Winch as _Winch
 from mjtether.walker import Tripod
@@ -671,8 +671,8 @@ class Scenario(Section):
     def _check_reach(self, bad) -> None:
         """A tether too short for its ends is refused before anything runs: the fairlead and the
         robot's tow point (a walker's about 1 m over the seabed at its start; a vehicle's or a
-        vessel's within ``REACH_MARGIN`` of its position) farther apart than the tether's length,
-        stretched by at most ``MAX_START_STRAIN`` if it is elastic."""
+        vessel's within ``REACH_MARGIN`` of its position) farther apart than the tether's length
+        (stretched by at most ``tether.MAX_REACH_STRAIN`` if it is elastic)."""
         t, r, s = self.tether, self.robot, self.ship
         if not t.attached or (r.type == "vehicle" and self.winch.start_empty):
             return
@@ -683,11 +683,13 @@ class Scenario(Section):
             end = np.array(r.position, dtype=float)
         margin = (REACH_MARGIN if r.type != "anchor" else 0.0) + (REACH_MARGIN if s.vessel else 0.0)
         span = float(np.linalg.norm(end - top))
-        stretch = 1.0 if (t.EA == 0.0 and not t.sections) else 1.0 + MAX_START_STRAIN
+        stretch = 1.0 if (t.EA == 0.0 and not t.sections) else 1.0 + MAX_REACH_STRAIN
         if t.length * stretch < span - margin:
+            why = (f" less {margin:g} m for the tow point's offset" if margin else "") + (
+                f", stretched by at most {100 * MAX_REACH_STRAIN:g} %" if stretch > 1 else "")
             bad("tether.length", f"{t.length:g} m", f"too short for its ends: the fairlead and the robot's tow point "
-                f"are {span:.1f} m apart ({'inextensible' if stretch == 1.0 else 'elastic, stretched at most 10 %'});"
-                f" give tether.length >= {(span - margin) / stretch:.1f} m or move the robot or ship closer")
+                f"are {span:.1f} m apart in a straight line (the span); give tether.length >= "
+                f"{(span - margin) / stretch:.1f} m (the minimum: the span{why}) or move the robot or ship closer")
 
     def estimate(self, max_length: float | None = None) -> dict:
         """What the run will cost (``cost.estimate``)."""

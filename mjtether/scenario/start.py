@@ -13,6 +13,7 @@ from dataclasses import dataclass, replace
 import mujoco
 import numpy as np
 
+from mjtether.cable.tether import MAX_REACH_STRAIN
 from mjtether.physics import water as wm
 from mjtether.quasistatic import initial_state, steady_state
 from mjtether.simulation import Simulation
@@ -182,7 +183,9 @@ def steady_start(scene: Scene, top, robot, dt: float):
     """The quasi-static steady state to start from (with the tow point on the seabed the
     seabed is taken one cable radius lower, where the cable's axis lies), or ``None`` and
     why, if there is none; the run then stops, or starts from ``fallback_nodes`` and
-    settles where the scenario asks for it (``simulation.start``)."""
+    settles where the scenario asks for it (``simulation.start``). An elastic tether shorter than
+    the span from the fairlead to the tow point by more than ``MAX_REACH_STRAIN`` is refused
+    (``ConfigError`` naming tether.length): it would start stretched to reach, at EA times the strain."""
     radius = scene.contact_diameter / 2
     # the cable's axis rests one radius above the seabed; a walker's tow point is higher: the
     # steady state is solved to the point on the seabed under it, for the length less that
@@ -200,6 +203,12 @@ def steady_start(scene: Scene, top, robot, dt: float):
         return None, (f"tether.length = {L:g} m: too short for its ends: the ship's fairlead and the robot's tow "
                       f"point are {reach:.2f} m apart and the tether is inextensible (tether.EA = 0); give "
                       f"tether.length > {reach:.2f} m or tether.EA > 0, or move the robot or the ship closer")
+    if reach > L * (1.0 + MAX_REACH_STRAIN):  # (the sections' check allows the tow point's offset; this is the point)
+        raise ConfigError(f"tether.length = {L:g} m: too short for its ends: the ship's fairlead and the robot's tow "
+                          f"point are {reach:.2f} m apart in a straight line (the span), and the tether would start "
+                          f"stretched by {100 * (reach / L - 1):.2g} % to reach it (at most {100 * MAX_REACH_STRAIN:g} "
+                          f"%); give tether.length >= {reach / (1 + MAX_REACH_STRAIN):.2f} m (the minimum), or move "
+                          "the robot or the ship closer", "tether.length")
     if rise >= 0.5 * L:
         return None, f"no steady state (the tow point is {rise:.2f} m above the seabed, the tether {L:g} m long)"
     if scene.walker and robot[2] < -depth - 1e-9:
@@ -216,8 +225,11 @@ def steady_start(scene: Scene, top, robot, dt: float):
         s_pts = np.r_[s_solved, L]
         s_new = arc_lengths(scene, L)
         nodes = np.c_[[np.interp(s_new, s_pts, pts[:, k]) for k in range(3)]].T
+        # the tow point holds the piece rising to it: the force at the foot plus its wet weight
+        hang = np.array([0.0, 0.0, -rise_weight_per_length(scene, robot[2]) * rise])
         ss = replace(ss, nodes=nodes, velocity=np.zeros_like(nodes), tension=np.interp(
-            0.5 * (s_new[1:] + s_new[:-1]), 0.5 * (s_solved[1:] + s_solved[:-1]), ss.tension))
+            0.5 * (s_new[1:] + s_new[:-1]), 0.5 * (s_solved[1:] + s_solved[:-1]), ss.tension),
+            bottom_force=ss.bottom_force + hang)
     x = ss.nodes
     EA = scene.tether_spec.EA if scene.makeup is None else scene.makeup.element_EA  # (inf or NaN: inextensible)
     strain = np.nan_to_num(ss.tension / (np.inf if EA is None else EA), nan=0.0)
@@ -228,6 +240,18 @@ def steady_start(scene: Scene, top, robot, dt: float):
     if below > 2 * radius:
         return None, f"no steady state clear of the sloped seabed (it crosses it by {below:.2f} m)"
     return ss, note
+
+
+def rise_weight_per_length(scene: Scene, z: float) -> float:
+    """Wet weight per metre (N/m, positive if it sinks) of the cable at the robot's end, in the water
+    at depth ``z`` (m, world): a uniform tether's, or a make-up's last element's (its floats and point
+    loads left out)."""
+    if scene.makeup is None:
+        mu, area = scene.tether_spec.mu, scene.tether_spec.area
+    else:
+        mu, area = float(scene.makeup.element_mass_per_length[-1]), float(scene.makeup.element_area[-1])
+    rho = float(np.asarray(scene.water.rho(z)).ravel()[0])
+    return (mu - rho * area) * scene.water.gravity
 
 
 def _explained(scene: Scene, note: str, robot, length: float, reach: float) -> str:
