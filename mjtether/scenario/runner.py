@@ -22,7 +22,8 @@ import warnings
 import mujoco
 import numpy as np
 
-from mjtether.cable import builder, stability
+from mjtether.cable import builder, softening, stability
+from mjtether.cable.softening import EAWarning  # noqa: F401 - where it was defined before (runner.EAWarning)
 from mjtether.scenario import Scenario, start
 from mjtether.simulation import Simulation
 
@@ -52,10 +53,6 @@ def manoeuvre_from(robot, vs) -> Manoeuvre | None:
 
 STATE_FIELDS = ("qpos", "mocap_pos", "mocap_quat")
 """``ScenarioRun.state``'s arrays, by the names ``run``'s history and ``tether.npz`` give them."""
-
-
-class EAWarning(UserWarning):
-    """The cable runs softer than its EA at the scenario's time step (``ScenarioRun._check_EA``)."""
 
 
 class RunFailed(RuntimeError):
@@ -220,29 +217,21 @@ class ScenarioRun:
         self.rated_load = sc.tether.rated_load
 
     def _check_EA(self):
-        """The element furthest below the EA asked for: {"asked_N", "effective_N", "ratio"} (ratio
-        1: as asked), with a warning, once, where the time step makes the cable softer (``builder``: the
-        solver cannot slow its axial mode enough), naming the effective EA and the step that
-        would keep it (``stability.ea_timestep``); None for an inextensible tether."""
+        """The element furthest below the EA asked for (``softening.softening``: {"asked_N",
+        "effective_N", "ratio"}, ratio 1: as asked), with a warning, once, where the time step makes
+        the cable softer (``builder``: the solver cannot slow its axial mode enough), naming the
+        effective EA and the step that would keep it (``stability.ea_timestep``); None for an
+        inextensible tether."""
         asked = self.makeup.element_EA[self.bt.drum.first:] if self.makeup is not None else self.tether_spec.EA
-        if asked is None:
-            return None
-        eff = np.asarray(self.bt.effective_EA, dtype=float)
-        asked = np.broadcast_to(np.asarray(asked, dtype=float), eff.shape)
-        ratio = eff / asked
-        worst = int(np.argmin(ratio))
-        if ratio[worst] < 0.99:
-            dt = self.sc.simulation.timestep
+        report = softening.softening(asked, self.bt.effective_EA)
+        if report is not None and report["ratio"] < softening.SOFT:
             if self.makeup is None:
                 keep = (f"; simulation.timestep = {stability.ea_timestep(self.tether_spec, self.water):.3g} s or "
                         "less keeps it")
             else:
-                keep = f"; a step {ratio[worst] ** 0.5:.3g} times this one keeps it"
-            warnings.warn(f"tether.EA: at simulation.timestep = {dt:g} s the cable is as stiff as the step allows: "
-                          f"effective EA {eff[worst]:.3g} N of the {asked[worst]:.3g} N asked "
-                          f"({100 * ratio[worst]:.0f} %: it stretches {1 / ratio[worst]:.3g} times as much){keep}",
-                          EAWarning, stacklevel=3)
-        return {"asked_N": float(asked[worst]), "effective_N": float(eff[worst]), "ratio": float(ratio[worst])}
+                keep = f"; a step {report['ratio'] ** 0.5:.3g} times this one keeps it"
+            softening.warn("tether.EA", report, self.sc.simulation.timestep, keep, stacklevel=4)
+        return report
 
     def _vessel_pilot(self, scene):
         """Turn the vessel to ``ship.heading_deg`` and give it its autopilot: station on
