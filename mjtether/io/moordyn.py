@@ -648,11 +648,18 @@ def load_any(path, overrides=()):
     path = shipped_example(path) or path  # (a shipped example by name: "default_walker")
     name = str(path)
     text = _read(name, path)
-    if Path(path).suffix.lower() != ".toml" and is_moordyn(text):
+    if not any(line.strip() and not line.lstrip().startswith("#") for line in text.splitlines()):
+        raise ScenarioError(f"{name}: is empty (no MoorDyn section, no TOML key): nothing to run; give a scenario "
+                            "or a MoorDyn file (with no file at all, the built-in scenario runs)")
+    moordyn_name = Path(path).suffix.lower() != ".toml"
+    if moordyn_name and is_moordyn(text):
         return read(text=text, name=name, overrides=overrides)
     try:
         data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError:
+    except tomllib.TOMLDecodeError as exc:
+        if moordyn_name:  # (a MoorDyn file without its LINE TYPES header reads as broken TOML)
+            raise ScenarioError(f"{name}: neither a MoorDyn v2 input file (no LINE TYPES or ROD TYPES section) nor "
+                                f"a scenario TOML file ({exc})") from None
         data = {}  # (load_scenario says what is wrong with it)
     if "lines" in data:
         water = data.get("water")

@@ -32,13 +32,15 @@ The file's tables (units SI; body frame x forward, y left, z up; see ``vehicle``
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+import os
+from dataclasses import dataclass, field, fields
 from pathlib import Path
 
 import mujoco
 import numpy as np
 import tomllib
 
+from mjtether import _checks
 from mjtether.io.packagedata import asset_dir
 
 from .fins import Fin, add_fin
@@ -64,6 +66,17 @@ KEYS = {
 }
 LISTS = ("thrusters", "fins")
 """The tables that may repeat ([[thrusters]], [[fins]])."""
+
+MAX_MASS = 1.0e9
+"""The heaviest vehicle or vessel a file may describe (kg): a large ship, a million tonnes."""
+MAX_SIZE = 1.0e3
+"""The largest extent (m) of a vehicle's points (centre of gravity, tow point) and drawn size."""
+MAX_NUMBER = 1.0e15
+"""The largest magnitude of any number in a vehicle file (SI): a million-tonne ship's yaw inertia
+is some 1e13 kg m^2. 1e300, which the classes' own checks (> 0, >= 0) let through, is refused."""
+MAX_GAIN = 1.0e9
+"""The largest autopilot gain (SI, each in its own unit; the shipped files' largest is 1340 N m per
+rad)."""
 
 
 @dataclass(frozen=True)
@@ -101,6 +114,17 @@ class Autopilot:
     max_pitch_deg: float = 20.0
     pitch_ki: float = 0.0
 
+    def __post_init__(self):
+        for f in fields(self):
+            value = getattr(self, f.name)
+            if f.name == "depth_by_pitch":
+                if not isinstance(value, (bool, np.bool_)):
+                    raise ValueError(f"autopilot.depth_by_pitch = {value!r}: must be true or false")
+            else:  # (each gain in its own unit: the class docstring)
+                lo, hi, unit, above = RANGES["autopilot", f.name]
+                object.__setattr__(self, f.name, _checks.number(f"autopilot.{f.name}", value, lo, hi, unit,
+                                                                above=above))
+
 
 @dataclass(frozen=True)
 class VehicleSpec:
@@ -132,29 +156,60 @@ def shipped() -> list[str]:
     return sorted(p.stem for p in asset_dir("vehicles", "README.md").glob("*.toml"))
 
 
+RANGES = {  # (table, key): (lo, hi, unit, lo excluded); any other number is within +-MAX_NUMBER
+    ("vehicle", "mass"): (0.0, MAX_MASS, "kg", True),
+    ("vehicle", "inertia"): (-MAX_NUMBER, MAX_NUMBER, "kg m^2", False),
+    ("vehicle", "centre_of_gravity"): (-MAX_SIZE, MAX_SIZE, "m", False),
+    ("vehicle", "size"): (0.0, MAX_SIZE, "m", True),
+    ("vehicle", "tow_point"): (-MAX_SIZE, MAX_SIZE, "m", False),
+    ("vehicle", "water_density"): (900.0, 1100.0, "kg/m^3", False),
+    ("autopilot", "max_pitch_deg"): (0.0, 90.0, "deg", True),
+    **{("autopilot", k): (0.0, MAX_GAIN, "", False) for k in KEYS["autopilot"] - {"depth_by_pitch", "max_pitch_deg"}},
+}
+"""The allowed values of a vehicle file's numbers, where its classes do not say (they check the rest)."""
+COUNTS = {("vehicle", "inertia"): (3, 6), ("vehicle", "centre_of_gravity"): (3,), ("vehicle", "size"): (3,),
+          ("vehicle", "tow_point"): (3,)}
+"""How many numbers a list of the [vehicle] table holds."""
+_LISTS_OF_NUMBERS = {"inertia", "centre_of_gravity", "size", "tow_point", "centre_of_buoyancy", "added_mass",
+                     "linear_damping", "quadratic_damping", "linear_damping_fade", "centre_of_flotation", "position",
+                     "direction", "lift_direction"}
+"""Keys whose values are lists of numbers (the others' are one number, but for ``_NOT_NUMBERS``)."""
+_NOT_NUMBERS = {"name", "sources", "crossflow", "depth_by_pitch", "response", "coriolis_zeroed"}
+"""Keys whose values are not numbers or lists of numbers (checked by ``_numbers_in`` or their class)."""
+
+
 def load_vehicle(name_or_path) -> VehicleSpec:
     """A shipped vehicle by name (``shipped()``) or a vehicle file by path; errors name the
-    file and the key."""
-    p = Path(str(name_or_path))
+    file, the key and what is allowed (never the file's contents)."""
+    if not isinstance(name_or_path, (str, os.PathLike)):
+        raise ValueError(f"vehicle = {name_or_path!r}: must be text: a shipped vehicle ({', '.join(shipped())}) "
+                         "or a vehicle file (.toml)")
+    p = Path(name_or_path)
     if p.suffix != ".toml":
         if str(name_or_path) not in shipped():
-            raise ValueError(f"vehicle {name_or_path!r}: not a shipped vehicle ({', '.join(shipped())}) "
+            raise ValueError(f"vehicle {str(name_or_path)!r}: not a shipped vehicle ({', '.join(shipped())}) "
                              "nor a .toml file")
         p = asset_dir("vehicles", "README.md") / f"{name_or_path}.toml"
-    if not p.is_file():
-        raise ValueError(f"vehicle file {p}: no such file")
     try:
-        tree = tomllib.loads(p.read_text())
+        tree = tomllib.loads(_checks.read_text(f"vehicle file {p}", p))
     except tomllib.TOMLDecodeError as exc:
-        raise ValueError(f"vehicle file {p}: {exc}") from None
+        raise ValueError(f"vehicle file {p}: not valid TOML: {exc}") from None
     where = p.name
     for table, keys in KEYS.items():
         items = tree.get(table, [] if table in LISTS else {})
+        if not (isinstance(items, list) and all(isinstance(i, dict) for i in items) if table in LISTS
+                else isinstance(items, dict)):
+            shape = f"[[{table}]] tables" if table in LISTS else f"a table [{table}]"
+            raise ValueError(f"{where}: {table} must be {shape}")
         for k, item in enumerate(items if table in LISTS else [items]):
             label = f"{table}[{k}]" if table in LISTS else table
             unknown = sorted(set(item) - keys)
             if unknown:
                 raise ValueError(f"{where}: unknown key {label}.{unknown[0]}; allowed: {', '.join(sorted(keys))}")
+            try:
+                _numbers_in(table, label, item)
+            except ValueError as exc:
+                raise ValueError(f"{where}: {exc}") from None
     unknown = sorted(set(tree) - set(KEYS))
     if unknown:
         raise ValueError(f"{where}: unknown table [{unknown[0]}]; allowed: {', '.join(KEYS)}")
@@ -162,11 +217,11 @@ def load_vehicle(name_or_path) -> VehicleSpec:
     for table, item, key in (("vehicle", v, "mass"), ("vehicle", v, "inertia"), ("hydro", h, "volume")):
         if key not in item:
             raise ValueError(f"{where}: {table}.{key} is required")
+    if not isinstance(v.get("sources", {}), dict):
+        raise ValueError(f"{where}: vehicle.sources must be a table [vehicle.sources] of parameter = \"source\"")
     rho = v.get("water_density")
-    if rho is not None and not (isinstance(rho, (int, float)) and 900.0 <= rho <= 1100.0):
-        raise ValueError(f"{where}: vehicle.water_density must be in [900, 1100] kg/m^3, got {rho!r}")
     if h["volume"] == "neutral":  # neutrally buoyant in the water it is trimmed for, exactly
-        if rho is None or not (isinstance(v["mass"], (int, float)) and v["mass"] > 0):
+        if rho is None:
             raise ValueError(f"{where}: hydro.volume = \"neutral\" needs vehicle.mass (kg) and vehicle.water_density "
                              "(kg/m^3)")
         h = {**h, "volume": float(v["mass"]) / float(rho)}
@@ -185,14 +240,45 @@ def load_vehicle(name_or_path) -> VehicleSpec:
         autopilot = Autopilot(**tree.get("autopilot", {}))
     except (TypeError, ValueError) as exc:
         raise ValueError(f"{where}: {exc}") from None
-    if not (isinstance(v["mass"], (int, float)) and v["mass"] > 0):
-        raise ValueError(f"{where}: vehicle.mass must be > 0 kg, got {v['mass']!r}")
     return VehicleSpec(name=str(v.get("name", p.stem)), mass=float(v["mass"]), inertia=tuple(v["inertia"]),
                        centre_of_gravity=tuple(v.get("centre_of_gravity", (0.0, 0.0, 0.0))),
                        size=tuple(v.get("size", (0.5, 0.2, 0.2))), tow_point=tuple(v.get("tow_point", (0.0, 0.0, 0.0))),
                        hydro=hydro, thrusters=thrusters, fins=fins, propeller=propeller, autopilot=autopilot,
                        sources=dict(v.get("sources", {})),
                        path=str(p), water_density=None if rho is None else float(rho))
+
+
+def _numbers_in(table: str, label: str, item: dict) -> None:
+    """Refuse text, booleans, NaN, infinities and numbers out of ``RANGES`` (or above
+    ``MAX_NUMBER``) where the table ``item`` of a vehicle file (``label``: ``thrusters[1]``) holds
+    numbers (every key but ``_NOT_NUMBERS``): NumPy would read ``true`` as 1 and ``"6136"`` as 6136.
+    Names are text; ``autopilot.depth_by_pitch`` is true or false; ``hydro.coriolis_zeroed`` is a
+    list of [row, column] pairs of whole numbers 0 to 5; ``hydro.volume`` may be "neutral"."""
+    for key, value in item.items():
+        name = f"{label}.{key}"
+        lo, hi, unit, above = RANGES.get((table, key), (-MAX_NUMBER, MAX_NUMBER, "", False))
+        if key == "name":
+            _checks.text(name, value)
+        elif key == "depth_by_pitch" and not isinstance(value, bool):
+            raise ValueError(f"{name} = {value!r}: must be true or false")
+        elif key == "coriolis_zeroed" and not (isinstance(value, list) and all(
+                isinstance(pair, list) and len(pair) == 2 and all(type(i) is int and 0 <= i <= 5 for i in pair)
+                for pair in value)):
+            raise ValueError(f"{name} = {value!r}: must be a list of [row, column] pairs, each a whole number 0 to 5")
+        elif key in _NOT_NUMBERS or (key == "volume" and value == "neutral"):
+            continue
+        elif key == "volume" and isinstance(value, str):
+            raise ValueError(f'{name} = {value!r}: must be a number in [0, {MAX_NUMBER:g}] m^3 or "neutral"')
+        elif (table, key) in COUNTS:
+            _checks.numbers(name, value, lo, hi, unit, count=COUNTS[table, key], above=above)
+        elif isinstance(value, list) and key in _LISTS_OF_NUMBERS:
+            for k, x in enumerate(value):
+                if isinstance(x, list):  # (a 6 x 6 matrix's rows)
+                    _checks.numbers(f"{name}[{k}]", x, lo, hi, unit, above=above)
+                else:
+                    _checks.number(f"{name}[{k}]", x, lo, hi, unit, above=above)
+        else:
+            _checks.number(name, value, lo, hi, unit, above=above)
 
 
 def _fin(table: dict) -> Fin:

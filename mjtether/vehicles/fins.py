@@ -49,6 +49,7 @@ class Fin:
     post_stall_lift: float = 0.5
 
     def __post_init__(self):
+        _checks.text("fin.name", self.name)
         object.__setattr__(self, "position", tuple(_checks.vector3(f"{self.name}.position", self.position)))
         d = np.asarray(_checks.vector3(f"{self.name}.lift_direction", self.lift_direction))
         n = float(np.linalg.norm(d))

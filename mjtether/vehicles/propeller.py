@@ -50,6 +50,7 @@ class Propeller:
     torque_scale: float = 1.0
 
     def __post_init__(self):
+        _checks.text("propeller.name", self.name)
         object.__setattr__(self, "position", tuple(_checks.vector3(f"{self.name}.position", self.position)))
         for key, unit in (("diameter", "m"), ("kt0", ""), ("ja_max", ""), ("max_rpm", "rpm"),
                           ("time_constant", "s")):

@@ -29,6 +29,16 @@ from mjtether.physics import actuation
 KGF = 9.80665
 """Newtons per kilogram-force."""
 
+MAX_POLE = 1.0e4
+"""The fastest pole a thruster's ``response`` may have (1/s): a time constant of 0.1 ms, shorter
+than any time step a vehicle runs at and about 100 times faster than von Benzon et al.'s T200
+(its fastest poles 90.9 1/s). Faster ones are not a thruster's, and their discretisation overflows
+(a pole of 1e300 1/s gave a LinAlgError)."""
+MAX_NUMERATOR = 1.0e15
+"""The largest numerator coefficient (SI, the denominator scaled to lead with 1) of a ``response``:
+the benchmark's largest is 1.087e5; K(0) = 1 makes the last one the denominator's, at most
+MAX_POLE^3 = 1e12 for a third order, and 1e15 leaves the others a thousand times that."""
+
 
 @dataclass(frozen=True)
 class ThrustCurve:
@@ -77,6 +87,7 @@ class Thruster:
     response: tuple | None = None  # (numerator, denominator); a TOML table {numerator, denominator}
 
     def __post_init__(self):
+        _checks.text("thruster.name", self.name)
         object.__setattr__(self, "position", tuple(_checks.vector3(f"{self.name}.position", self.position)))
         d = np.asarray(_checks.vector3(f"{self.name}.direction", self.direction))
         if np.linalg.norm(d) < 1e-9:
@@ -102,8 +113,33 @@ class Thruster:
         if not (isinstance(r, (tuple, list)) and len(r) == 2):
             raise ValueError(f"{self.name}.response must be a table of numerator and denominator (coefficients from "
                              f"the highest power of s down), got {r!r}")
-        num, den = actuation.check_response(f"{self.name}.response", *r)
+        num, den = _check_response(f"{self.name}.response", *r)
         object.__setattr__(self, "response", (tuple(map(float, num)), tuple(map(float, den))))
+
+
+def _check_response(field: str, numerator, denominator):
+    """``actuation.check_response``, with text and booleans refused as coefficients (NumPy reads
+    ``true`` as 1 and ``"6136"`` as 6136) and the poles and numerator within ``MAX_POLE`` and
+    ``MAX_NUMERATOR``."""
+    for part, coefficients in (("numerator", numerator), ("denominator", denominator)):
+        if isinstance(coefficients, (str, bytes)) or _checks._has_flag_or_text(coefficients):
+            raise ValueError(f"{field}.{part} = {coefficients!r}: must be a list of finite numbers (coefficients "
+                             "from the highest power of s down)")
+    try:
+        with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+            num, den = actuation.check_response(field, numerator, denominator)
+    except np.linalg.LinAlgError:  # (coefficients so far apart that scaling the denominator overflows)
+        num = den = np.array([np.inf])
+    with np.errstate(over="ignore", invalid="ignore"):
+        poles = np.roots(den) if np.all(np.isfinite(den)) else np.array([np.inf])
+    fastest = float(np.max(np.abs(poles)))
+    if not fastest <= MAX_POLE:
+        raise ValueError(f"{field}: every pole must be within {MAX_POLE:g} 1/s (a time constant of at least "
+                         f"{1e3 / MAX_POLE:g} ms), got one of {fastest:.4g} 1/s")
+    if not np.max(np.abs(num)) <= MAX_NUMERATOR:
+        raise ValueError(f"{field}: the numerator's coefficients (the denominator scaled to lead with 1) must be "
+                         f"within [-{MAX_NUMERATOR:g}, {MAX_NUMERATOR:g}], got {np.max(np.abs(num)):.4g}")
+    return num, den
 
 
 def add_thruster(spec: mujoco.MjSpec, body: str, th: Thruster) -> str:
