@@ -167,8 +167,12 @@ def _load(path, sets=(), network: bool = False):
 
     from .scenario import ScenarioError
 
+    if path is not None and not str(path).strip():
+        print("mjtether: scenario '': give a scenario file, a MoorDyn file or a shipped example's name "
+              "(or none for the built-in scenario)", file=sys.stderr)
+        return None
     try:
-        sc = load_any(path if path else DEFAULT_SCENARIO, overrides=sets)
+        sc = load_any(path if path is not None else DEFAULT_SCENARIO, overrides=sets)
     except ScenarioError as exc:
         print(f"mjtether: {exc}", file=sys.stderr)
         return None

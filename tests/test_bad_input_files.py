@@ -280,3 +280,10 @@ def test_a_seafloor_file_in_a_sibling_folder_is_read(tmp_path):
                     "1000 1000 -150\n")
     f = _moordyn(tmp_path, "../grids/floor.txt   SeafloorFile")
     assert moordyn.parse(f.read_text(), str(f)).seafloor == str(grid.resolve())
+
+
+def test_an_empty_scenario_name_is_refused_not_read_as_the_built_in_one(tmp_path, capsys):
+    """`mjtether run ""` ran the built-in walker; it is refused, and nothing is written."""
+    from mjtether import cli
+    assert cli.main(["run", "", "--out", str(tmp_path / "res"), "--no-plots"]) == 2
+    assert "scenario ''" in capsys.readouterr().err and not (tmp_path / "res").exists()
