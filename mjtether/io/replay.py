@@ -191,7 +191,7 @@ class Replay:
             # the tether's node bodies (three world slide joints each): their qpos is a displacement
             # from the body's place in this model, set from the saved world positions of the nodes
             bt = run.bt
-            bodies = [int(m.flex_vertbodyid[bt.layout.vertadr + i]) for i in range(bt.layout.n + 1)]
+            bodies = [int(b) for b in bt.layout.bids]
             self._node_qpos = np.array([[m.jnt_qposadr[m.body_jntadr[b] + a] for a in range(3)] for b in bodies])
             d = run.sim.data
             d.qpos[self._node_qpos.ravel()] = 0.0
