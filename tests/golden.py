@@ -131,6 +131,15 @@ and say which here:
   0.6 % and 0.17 %, their nodes by up to 0.46 m and 0.10 m; every other run unchanged bit for bit.
 
     python tests/golden.py   # rewrites tests/data/golden_runs.npz
+* issue 42 (the first part): ``max_compression`` is the largest push since the previous sample,
+  not the sample step's: it moved in ``auv_fibre_pitch_down``, ``auv_fibre_straight`` and
+  ``auv_fibre_zigzag`` (0 to 3.2e-7 N), ``walker_bathymetry`` (largest 0.042 to 0.095 N) and
+  ``walker_ship_follows`` (8e-7 to 1.4e-3 N); every other column, node and tension of every run,
+  and every environment, is bit for bit what the code before it (17d946e) gives on the machine
+  that rewrote the file. That machine reports the same CPU label as the one before, but 17d946e
+  already gave it other bits: rounding (at most 1e-11 of a value) and ``hong2020_platform``'s
+  ``cable_wrap`` at 360 deg instead of 0 (a wrap angle on its seam), so the file was rewritten
+  there.
 """
 
 from pathlib import Path
