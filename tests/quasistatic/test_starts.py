@@ -101,7 +101,7 @@ def test_no_consistent_start_stops_before_simulating():
 [water]
 depth = 50.0
 [tether]
-length = 75.0
+length = 80.0
 segments = 10
 EA = 50.0
 [robot]
