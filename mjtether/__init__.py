@@ -20,8 +20,8 @@ from mjtether.cable import builder, makeup, seabed, stability, tether, winch
 from mjtether.cable.builder import BodyPoint, FixedPoint, FreeEnd, SitePoint, TetherModel, add_tether, axial_params
 from mjtether.cable.tether import TetherSpec
 from mjtether.cable.winch import Winch
-from mjtether.io import mjlog
-from mjtether.io.mjlog import MujocoWarning
+from mjtether.files import mjlog
+from mjtether.files.mjlog import MujocoWarning
 from mjtether.physics import compiled, dispatch, hydro, native, rigidbody, water
 from mjtether.physics.rigidbody import RigidBodyHydro, add_body_hydro
 from mjtether.physics.water import (
@@ -58,5 +58,5 @@ __all__ = [
 __version__ = "0.1.0"
 
 # MuJoCo's warnings become MujocoWarning (warnings module) instead of lines appended to
-# ./MUJOCO_LOG.TXT; a warning callback set before this import is kept (see mjtether.io.mjlog)
+# ./MUJOCO_LOG.TXT; a warning callback set before this import is kept (see mjtether.files.mjlog)
 mjlog.install()

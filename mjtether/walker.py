@@ -21,7 +21,7 @@ from pathlib import Path
 import mujoco
 import numpy as np
 
-from mjtether.io.packagedata import asset_dir
+from mjtether.files.packagedata import asset_dir
 from mjtether.physics import compiled
 from mjtether.physics.rigidbody import RigidBodyHydro
 

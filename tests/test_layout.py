@@ -13,9 +13,9 @@ import pytest
 
 PACKAGE = Path(__file__).resolve().parents[1] / "mjtether"
 
-LEAVES = {"mjtether._checks", "mjtether.units", "mjtether.analytic", "mjtether.io.packagedata",
-          "mjtether.io.mjlog", "mjtether.io.outdir", "mjtether.io.render"}
-RANK = {"physics": 1, "cable": 2, "vehicles": 2, "walker": 3, "simulation": 4, "quasistatic": 5, "scenario": 6,
+LEAVES = {"mjtether._checks", "mjtether.units", "mjtether.analytic", "mjtether.files.packagedata",
+          "mjtether.files.mjlog", "mjtether.files.outdir", "mjtether.io.render"}
+RANK = {"files": 0, "physics": 1, "cable": 2, "vehicles": 2, "walker": 3, "simulation": 4, "quasistatic": 5, "scenario": 6,
         "network": 7, "io": 8, "sweep": 9, "rollouts": 9, "demo": 9, "cli": 10}  # (a network flies vehicles
 # with the scenario's autopilot)
 
@@ -75,6 +75,22 @@ def test_imports_run_one_way(path):
         assert their_area == area or their_rank < rank, f"{me} (rank {rank}):{line} imports {other} (rank {their_rank})"
 
 
+def test_no_package_imports_another_that_imports_it():
+    """The areas (``io``, ``scenario``, ``network``, ...) import each other one way only: no
+    import cycle between two packages, the leaves (``files``, ``_checks``, ...) included."""
+    graph = {}
+    for path in SOURCES:
+        me = _module(path).split(".")
+        mine = me[1] if len(me) > 1 else "mjtether"
+        for _, other in _imports(path):
+            theirs = other.split(".")[1] if other.count(".") else "mjtether"
+            if theirs not in (mine, "mjtether"):
+                graph.setdefault(mine, set()).add(theirs)
+    for a, deps in graph.items():
+        for b in deps:
+            assert a not in graph.get(b, ()), f"mjtether.{a} and mjtether.{b} import each other"
+
+
 def test_small_modules_and_classes():
     """At most about 12 modules at the package's top level besides the subpackages; no module
     over about 700 lines; no class over about 400 lines."""
@@ -112,5 +128,5 @@ def test_the_flat_layouts_names_still_import():
                         "builder": "cable.builder", "tether": "cable.tether", "makeup": "cable.makeup",
                         "winch": "cable.winch", "seabed": "cable.seabed", "stability": "cable.stability",
                         "fossen": "vehicles.fossen", "vehicle": "vehicles.vehicle", "fins": "vehicles.fins",
-                        "propeller": "vehicles.propeller", "mjlog": "io.mjlog"}.items():
+                        "propeller": "vehicles.propeller", "mjlog": "files.mjlog"}.items():
         assert getattr(mt, name) is importlib.import_module(f"mjtether.{moved}"), name

@@ -5,6 +5,6 @@
 * ``files``: vehicle parameter files (``load_vehicle``; shipped ones in ``assets/vehicles``);
 * ``thruster``, ``propeller``, ``fins``: actuators.
 
-Imports: the physics and ``mjtether.io.packagedata``; never the cable, the scenario, the CLI or
+Imports: the physics and ``mjtether.files.packagedata``; never the cable, the scenario, the CLI or
 the environments.
 """

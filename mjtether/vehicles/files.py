@@ -41,7 +41,7 @@ import numpy as np
 import tomllib
 
 from mjtether import _checks
-from mjtether.io.packagedata import asset_dir
+from mjtether.files.packagedata import asset_dir
 
 from .fins import Fin, add_fin
 from .propeller import Propeller, add_propeller

@@ -1,4 +1,4 @@
-"""MuJoCo's warnings reach Python (mjtether.io.mjlog) and never MUJOCO_LOG.TXT in the working folder."""
+"""MuJoCo's warnings reach Python (mjtether.files.mjlog) and never MUJOCO_LOG.TXT in the working folder."""
 
 import logging
 import subprocess
@@ -10,8 +10,8 @@ import numpy as np
 import pytest
 
 import mjtether  # noqa: F401 - installs the warning callback
-from mjtether.io import mjlog
-from mjtether.io.mjlog import MujocoWarning
+from mjtether.files import mjlog
+from mjtether.files.mjlog import MujocoWarning
 
 BALL = '<mujoco><worldbody><body><freejoint/><geom size="0.1"/></body></worldbody></mujoco>'
 
@@ -81,7 +81,7 @@ def test_user_callback_is_kept(tmp_path):
         got = []
         mujoco.set_mju_user_warning(got.append)
         import mjtether
-        assert mjtether.io.mjlog.installed() is None
+        assert mjtether.files.mjlog.installed() is None
     """, TRIGGER, """
         assert len(got) == 1 and "QACC" in got[0], got
         print('kept')

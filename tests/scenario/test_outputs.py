@@ -1,4 +1,4 @@
-"""Results folders (mjtether.io.outdir): complete or absent, never replacing what mjtether did not write."""
+"""Results folders (mjtether.files.outdir): complete or absent, never replacing what mjtether did not write."""
 
 import json
 import os
@@ -13,7 +13,7 @@ import pytest
 
 from mjtether import cli
 from mjtether.io import results
-from mjtether.io.outdir import MANIFEST, MARKER, OutputError, Staging, check_target, partial_prefix
+from mjtether.files.outdir import MANIFEST, MARKER, OutputError, Staging, check_target, partial_prefix
 from mjtether.scenario.runner import run
 from mjtether.scenario import load_scenario
 
@@ -251,7 +251,7 @@ def test_overwrite_replaces_an_earlier_mjtether_result(tmp_path, capsys):
     assert s["scenario_file"].endswith("two.toml") and s["samples"] == 2
     manifest = json.loads((out / MANIFEST).read_text())
     names = {p.name for p in out.iterdir()} - {MANIFEST}
-    assert set(manifest["files"]) == names == {"summary.json", "tether.npz", "timeseries.csv"}
+    assert set(manifest["files"]) == names == {"summary.json", "lines.npz", "timeseries.csv"}
     assert all(manifest["files"][n]["size"] == (out / n).stat().st_size for n in names)
     assert not leftovers(tmp_path)
 
