@@ -14,7 +14,7 @@ import mujoco
 import numpy as np
 
 from mjtether import _checks
-from mjtether.cable import kernels
+from mjtether.cable import kernels, softening
 from mjtether.cable.bound import BoundTether
 from mjtether.cable.builder import TetherModel
 from mjtether.cable.drum import FAIRLEAD_SHARE, MERGE, SPLIT, START_SLACK  # noqa: F401 - the flat layout's names
@@ -45,13 +45,27 @@ class SimulationDiverged(RuntimeError):
     """The state became non-finite or MuJoCo reported a bad acceleration."""
 
 
+def _warn_soft(name: str, bt: BoundTether, timestep: float) -> None:
+    """``softening.warn`` for the tether ``name`` bound as ``bt`` at ``timestep`` (s)."""
+    asked = bt.drum.EA[bt.drum.first:]  # N, each deployed element's (inf: inextensible, never softened)
+    elastic = np.isfinite(asked)
+    report = softening.softening(asked[elastic], bt.effective_EA[elastic]) if elastic.any() else None
+    if report is not None:
+        softening.warn(f"tether {name!r} EA", report, timestep,
+                       f"; a step {report['ratio'] ** 0.5:.3g} times this one keeps it", stacklevel=4)
+
+
 class Simulation:
     """Compile ``spec`` and simulate it with tether and body hydrodynamics in ``water``.
 
     >>> # sim = Simulation(spec, water, tethers=[tm]); sim.step(1000); sim.close()
+
+    ``warn_EA``: warn (``cable.softening.EAWarning``, once per tether) where the model's time step
+    makes a tether softer than its EA, naming the tether, its effective EA and the step that keeps
+    it (the scenario and the network runners pass False: they warn naming their own keys).
     """
 
-    def __init__(self, spec: mujoco.MjSpec, water: WaterColumn, tethers=(), bodies=()):
+    def __init__(self, spec: mujoco.MjSpec, water: WaterColumn, tethers=(), bodies=(), warn_EA: bool = True):
         if not isinstance(water, WaterColumn):
             raise ValueError(f"water must be a WaterColumn, got {type(water).__name__}")
         self.water = water
@@ -81,6 +95,9 @@ class Simulation:
             else:
                 raise ValueError("bodies must be BodyHydroModel or VehicleModel objects returned by add_body_hydro "
                                  "or add_vehicle")
+        if warn_EA:
+            for name, bt in self.tethers.items():
+                _warn_soft(name, bt, float(self.model.opt.timestep))
         self._providers = [*self.tethers.values(), *self.bodies]
         self._buf = np.empty(mujoco.mj_stateSize(self.model, _STATE))
         self._eq_snapshot = self.data.eq_active.copy()

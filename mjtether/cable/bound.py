@@ -44,7 +44,7 @@ class BoundTether:
 
     def __init__(self, tm: TetherModel, model: mujoco.MjModel, data: mujoco.MjData, water: WaterColumn):
         L = self.layout = CableLayout(tm, model, data, water)
-        self.tm, self.spec, self.water, self.makeup = tm, L.spec, water, L.makeup
+        self.tm, self.spec, self.water, self.makeup, self.line = tm, L.spec, water, L.makeup, L.line
         self.model, self.data = model, data
         self.n, self.l0, self.max_length = L.n, L.l0, L.max_length
         self.vertadr, self.tadr, self.eq0, self.drum_eq, self.end_eq = L.vertadr, L.tadr, L.eq0, L.drum_eq, L.end_eq

@@ -80,15 +80,16 @@ class Drum:
         m = L.model
         self._model_arrays = (m.body_mass, m.dof_armature, m.tendon_invweight0, m.tendon_armature,
                               m.eq_solref, m.eq_solimp, m.eq_data, m.tendon_length0)
-        self.mu = s.mu
-        self.ca_A = s.ca_normal * s.area
-        self.EA = None
-        mk = L.makeup
-        if mk is not None:  # a line make-up: per-element properties and point loads, no payout
-            self.drum_rest = float(mk.element_length[0])
-            self.mu = mk.element_mass_per_length  # kg/m, per element (floats in)
+        mk = L.line
+        self.drum_rest = float(L.nominal[self.first])
+        self.EA = L.element(mk.element_EA)  # N, per element (inf: inextensible)
+        if L.pays_out:  # one mass per length (kg/m) and added mass per metre (kg/m per kg/m^3)
+            self.mu = s.mu
+            self.ca_A = s.ca_normal * s.area
+        else:  # per element (floats in); (the same numbers in another order for a uniform line: see
+            # update, whose lumping follows)
+            self.mu = mk.element_mass_per_length
             self.ca_A = mk.element_ca_normal * np.pi * mk.element_diameter**2 / 4 + mk.element_float_added_volume
-            self.EA = np.where(np.isfinite(mk.element_EA), mk.element_EA, np.inf)
         # updated in place, as the native callback reads them (loads.native_table)
         self.rest, self.inertia = np.zeros(n), np.zeros(n + 1)
         self.native_state = np.zeros(3)  # first, its share of the drum element, payout rate
@@ -100,27 +101,25 @@ class Drum:
         """Length (m) of the drum element whose mass and loads the fairlead node carries
         (``fairlead_share``: half of it unless the drum is releasing or taking back a node)."""
         L = self.layout
-        if L.drum_eq is None or L.makeup is not None:
-            return 0.5 * self.drum_rest  # a free start end or a make-up: an ordinary element
-        return fairlead_share(self.drum_rest, L.l0)
+        if L.drum_eq is None:
+            return 0.5 * self.drum_rest  # a free start end: an ordinary element
+        # (a line that does not pay out has its drum element at its nominal length: half of it)
+        return fairlead_share(self.drum_rest, float(L.nominal[self.first]))
 
     @property
     def rest_lengths(self) -> np.ndarray:
         """Unstretched length of every element (m), shape (n,); 0 for elements on the drum."""
-        L = self.layout
-        if L.makeup is not None:
-            return np.array(L.makeup.element_length, dtype=float)
-        r = np.zeros(L.n)
+        r = self.layout.nominal.copy()
+        r[:self.first] = 0.0
         r[self.first] = self.drum_rest
-        r[self.first + 1:] = L.l0
         return r
 
     @property
     def deployed_length(self) -> float:
         """Unstretched deployed length (m)."""
         L = self.layout
-        if L.makeup is not None:
-            return float(L.makeup.length)
+        if not L.pays_out:  # (its length is fixed: the sections' exact sum)
+            return float(L.line.length)
         return self.drum_rest + (L.n - self.first - 1) * L.l0
 
     @property
@@ -155,8 +154,8 @@ class Drum:
         z = x[:, 2]
         zc = np.minimum(0.5 * (z[1:] + z[:-1]), 0.0)
         self.added_per_m = self.ca_A * np.asarray(self.water.rho(zc), float)  # kg/m, per element
-        if L.makeup is not None:  # the point loads' added mass, at the start's depths
-            self.node_added = L.makeup.node_added_volume * np.asarray(self.water.rho(np.minimum(z, 0.0)), float)
+        # the point loads' added mass, at the start's depths
+        self.node_added = L.node(L.line.node_added_volume) * np.asarray(self.water.rho(np.minimum(z, 0.0)), float)
         self.update()
         orient_added_mass(L.normal_prm, k, x[k:])
         # elements about as long as their rest length or longer start taut, clearly slack ones
@@ -184,15 +183,15 @@ class Drum:
         added = left * a_left * r_left + right * a_right * r_right
         parked = idx < k
         end = (idx == k) | (idx == n)  # at a support: inertia up to an interior node's
-        if L.makeup is None:
+        # the point loads' masses and (isotropic) added masses: none on a uniform tether
+        iso = self.node_added.copy()
+        if L.pays_out:  # one mass per length: as update_drum lumps it, step by step
             mass = self.mu * (left * r_left + right * r_right)
             i_ref = self.i_ref = (self.mu + np.median(ap)) * l0  # an interior node's (normal) inertia
             mass = np.where(parked, self.mu * l0, mass)
-            iso = np.zeros(n + 1)
-        else:  # per-element mass per length, and the point loads' masses and (isotropic) added masses
+        else:  # per-element mass per length
             mu = self.mu
-            mass = left * np.r_[0.0, mu] * r_left + right * np.r_[mu, 0.0] * r_right + L.makeup.node_mass
-            iso = self.node_added.copy()
+            mass = left * np.r_[0.0, mu] * r_left + right * np.r_[mu, 0.0] * r_right + L.line.node_mass
             i_ref = self.i_ref = float(np.median(mass + added + iso))
         # the line's added mass acts normal to it (the normal tendons); the isotropic armature
         # holds the point loads' added mass, a parked node's inertia and a support's conditioning
@@ -210,7 +209,7 @@ class Drum:
         # elements: inverse mass along the element, solver parameters, rest lengths
         js = np.arange(n)
         inv = 1.0 / self.inertia[:-1] + 1.0 / self.inertia[1:]
-        p = axial_params(L.spec.EA if L.makeup is None else self.EA, np.where(js >= k, rest, l0), inv,
+        p = axial_params(self.EA, np.where(js >= k, rest, l0), inv,
                          m.opt.timestep, L.spec.axial_damping_ratio)
         m.tendon_invweight0[L.ten] = inv
         m.eq_solref[L.eqs] = p.solref
@@ -227,7 +226,7 @@ class Drum:
         """The payout state as the native callback reads it (``loads.native_table``'s state row)."""
         st = self.native_state
         st[0] = self.first
-        st[1] = 0.5 if self.layout.makeup is not None else self.fairlead_share / max(self.drum_rest, 1e-300)
+        st[1] = self.fairlead_share / max(self.drum_rest, 1e-300)
         st[2] = self.payout_rate if self.layout.drum_eq is not None else 0.0
 
     def update_drum(self) -> None:
@@ -320,9 +319,9 @@ class Drum:
         length_m = float(length)
         if not (np.isfinite(length_m) and length_m >= 0):
             raise ValueError(f"length must be a finite number >= 0 m, got {length!r}")
-        if L.makeup is not None:
-            if abs(length_m - L.makeup.length) > 1e-9 * L.makeup.length:
-                raise ValueError(f"length: a line make-up's length is fixed at {L.makeup.length:g} m "
+        if not L.pays_out:
+            if abs(length_m - L.line.length) > 1e-9 * L.line.length:
+                raise ValueError(f"length: a line make-up's length is fixed at {L.line.length:g} m "
                                  "(payout of a make-up is not supported yet)")
             return
         n, l0 = L.n, L.l0

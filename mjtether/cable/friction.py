@@ -61,10 +61,11 @@ class SeabedContact:
             normal = R.reshape(3, 3)[:, 2].copy()
             point = model.geom_pos[g].copy()
             rho = float(water.rho([point[2]])[0])
-        if L.makeup is not None:  # each node's wet weight: half its elements' and its point load's
-            ww = L.makeup.element_wet_weight(rho, water.gravity) * L.makeup.element_length
-            self.node_wet = (np.r_[0.0, ww] * 0.5 + np.r_[ww, 0.0] * 0.5 + L.makeup.node_wet_weight(
-                rho, water.gravity)) * normal[2]
+        # each node's wet weight: half its elements' and its point load's (a line that pays out
+        # takes its one weight per metre on the elements' rest lengths as they change: ``kernel``)
+        mk = L.line
+        ww = mk.element_wet_weight(rho, water.gravity) * mk.element_length
+        self.node_wet = (np.r_[0.0, ww] * 0.5 + np.r_[ww, 0.0] * 0.5 + mk.node_wet_weight(rho, water.gravity)) * normal[2]
         w = L.spec.wet_weight_per_length(rho, water.gravity) * normal[2]
         self.stick = slice(tm.userdata_adr, tm.userdata_adr + 3 * (L.n + 1))
         L.data.userdata[self.stick] = np.nan
@@ -96,7 +97,7 @@ class SeabedContact:
         _, _, w = self.seabed
         point, normal = self.planes(x)
         k = dr.first
-        if L.makeup is not None:  # (a buoyant node does not press on the seabed)
+        if not L.pays_out:  # (a buoyant node does not press on the seabed)
             normal_force = np.maximum(self.node_wet[k:], 0.0)
         elif w <= 0.0:  # a buoyant cable does not press on the seabed
             return np.zeros_like(x), np.full_like(x, np.nan)

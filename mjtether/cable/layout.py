@@ -15,6 +15,7 @@ import numpy as np
 from mjtether.physics.water import WaterColumn
 
 from .builder import TetherModel
+from .makeup import LineMakeup
 
 _ROWS_OF = {int(mujoco.mjtEq.mjEQ_CONNECT): 3, int(mujoco.mjtEq.mjEQ_WELD): 6, int(mujoco.mjtEq.mjEQ_JOINT): 1,
             int(mujoco.mjtEq.mjEQ_TENDON): 1}
@@ -33,6 +34,15 @@ class CableLayout:
     ``rows_before`` (constraint rows of each equality defined before the elements), and
     ``fast``: the compiled kernels' per-element arrays (``loads.compiled_arrays``), or None
     where the NumPy kernels run.
+
+    The line is always a ``makeup.LineMakeup`` (``line``, the deployed elements at the start; a
+    uniform ``TetherSpec`` is its one-section make-up; ``makeup`` is the make-up as given, None
+    for a uniform tether); ``element(a)`` and ``node(a)`` extend its per-element and per-node
+    arrays over the ``tm.first`` elements and nodes waiting on the drum (more of its first
+    section, no point loads), and ``nominal`` is every element's unstretched length (m).
+    ``pays_out``: the drum pays out and takes back (a uniform tether; a make-up's length is
+    fixed, see ``builder.add_tether``), lumping the masses with its one mass per length in the
+    scalar arithmetic of ``Drum.update_drum``.
     """
 
     def __init__(self, tm: TetherModel, model: mujoco.MjModel, data: mujoco.MjData, water: WaterColumn):
@@ -43,7 +53,11 @@ class CableLayout:
         self.n = n = tm.n
         self.l0 = tm.nominal_length
         self.max_length = tm.max_length
-        self.makeup = tm.makeup
+        self.makeup = tm.makeup  # as given: None for a uniform tether (see ``line``)
+        self.pays_out = tm.makeup is None  # (the builder allows payout for a uniform tether only)
+        self.line = tm.makeup or LineMakeup.uniform(tm.spec)  # (a uniform tether: its one section)
+        self._drum_nodes = tm.first
+        self.nominal = self.element(self.line.element_length)
         fid = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_FLEX, tm.name)
         self.vertadr = int(model.flex_vertadr[fid])
         self.tadr = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_TENDON, tm.element_tendon(0))
@@ -81,6 +95,17 @@ class CableLayout:
         self.q0 = int(qadr[0])
         self.body0 = tm.initial_nodes.ravel().copy()  # node body positions at qpos = 0
         self.fast = None
+
+    def element(self, a) -> np.ndarray:
+        """A per-element array of the deployed line (``line.element_*``, shape (n - first,)),
+        over all ``n`` elements: the ones on the drum take its first element's value."""
+        a = np.asarray(a, dtype=float)
+        return np.concatenate([np.full(self._drum_nodes, a[0]), a])
+
+    def node(self, a) -> np.ndarray:
+        """A per-node array of the deployed line's point loads (``line.node_*``, shape
+        (n - first + 1,)), over all ``n + 1`` nodes: 0 on the nodes waiting on the drum."""
+        return np.concatenate([np.zeros(self._drum_nodes), np.asarray(a, dtype=float)])
 
     def x(self, i0: int = 0, i1: int | None = None) -> np.ndarray:
         """Positions (m) of nodes i0..i1-1 from qpos (valid before mj_forward)."""

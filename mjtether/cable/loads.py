@@ -26,22 +26,23 @@ def compiled_arrays(layout: CableLayout) -> dict:
     element's diameter, C_dn, C_dt, displaced area per metre and floats' drag area per metre,
     each joint's EI / l (None without bending), the water profiles' codes (None: evaluated in
     NumPy), and buffers for the loads."""
-    s, mk, n, l0 = layout.spec, layout.makeup, layout.n, layout.l0
-    if mk is None:
-        full = lambda value: np.full(n, float(value))  # noqa: E731
-        c = dict(diameter=full(s.diameter), cd_normal=full(s.cd_normal), cd_tangential=full(s.cd_tangential),
-                 area=full(np.pi * s.diameter**2 / 4.0), cd_area_float=full(0.0),
-                 bend=np.full(max(n - 1, 0), s.EI / l0) if s.EI > 0 else None)
-    else:
-        EI, rest = mk.element_EI, np.asarray(mk.element_length, dtype=float)
-        c = dict(diameter=mk.element_diameter, cd_normal=mk.element_cd_normal,
-                 cd_tangential=mk.element_cd_tangential, area=mk.element_area,
-                 cd_area_float=mk.element_float_cd_area,
-                 bend=(0.5 * (EI[1:] + EI[:-1])) / (0.5 * (rest[1:] + rest[:-1])) if np.any(EI > 0) else None)
-        c = {k: (v if v is None else np.ascontiguousarray(v, dtype=float)) for k, v in c.items()}
+    L, mk, n = layout, layout.line, layout.n
+    c = dict(diameter=L.element(mk.element_diameter), cd_normal=L.element(mk.element_cd_normal),
+             cd_tangential=L.element(mk.element_cd_tangential), area=L.element(mk.element_area),
+             cd_area_float=L.element(mk.element_float_cd_area), bend=joint_stiffness(L))
     c.update(water=compiled.profile_codes(layout.water), rho=np.empty(2 * n), u=np.empty((2 * n, 3)),
              f=np.empty((n + 1, 3)), friction=np.empty((n + 1, 3)), stick=np.empty((n + 1, 3)))
     return c
+
+
+def joint_stiffness(layout: CableLayout) -> np.ndarray | None:
+    """Each joint's bending stiffness over length, EI / l (N m), shape (n - 1,): the mean of its two
+    elements' EI over the mean of their nominal lengths (a uniform line's EI / l0, exactly); None
+    without bending."""
+    EI, rest = layout.element(layout.line.element_EI), layout.nominal
+    if not np.any(EI > 0):
+        return None
+    return (0.5 * (EI[1:] + EI[:-1])) / (0.5 * (rest[1:] + rest[:-1]))
 
 
 def orient_added_mass(normal_prm, first: int, x: np.ndarray) -> None:
@@ -80,6 +81,7 @@ class CableLoads:
 
     def __init__(self, layout: CableLayout, drum, contact):
         self.layout, self.drum, self.contact = layout, drum, contact
+        self.bend = joint_stiffness(layout)  # EI / l of each joint (N m), None without bending
 
     def buffer(self, data: mujoco.MjData) -> np.ndarray:
         """Hydrodynamic (+ bending, + seabed friction) loads on the deployed nodes (N, shape
@@ -114,20 +116,24 @@ class CableLoads:
             v[0] += dr.payout_rate / max(math.sqrt(e @ e), 1e-9) * e
         if L.fast is not None:
             return self._compiled_hydro(x, v)
-        mk = L.makeup
-        if mk is not None:
-            return self._makeup_hydro(x, v)
-        f = tether_loads(x, v, segment_length=dr.deployed_rest, diameter=s.diameter,
-                         cd_normal=s.cd_normal, cd_tangential=s.cd_tangential,
-                         rho_fn=L.water.rho, current_fn=L.water.velocity,
-                         gravity=L.water.gravity, drag_law=s.drag_law,
+        mk, k = L.line, dr.first
+        plain = not mk.has_floats  # (the displaced area is pi d^2 / 4, no floats' drag)
+        f = tether_loads(x, v, segment_length=dr.deployed_rest, diameter=L.element(mk.element_diameter)[k:],
+                         cd_normal=L.element(mk.element_cd_normal)[k:],
+                         cd_tangential=L.element(mk.element_cd_tangential)[k:], rho_fn=L.water.rho,
+                         current_fn=L.water.velocity, gravity=L.water.gravity,
+                         area=None if plain else L.element(mk.element_area)[k:],
+                         float_cd_area=None if plain else L.element(mk.element_float_cd_area)[k:],
+                         drag_law=s.drag_law,
                          first_share=dr.fairlead_share / max(dr.drum_rest, 1e-300))
-        if s.EI > 0:
-            f += bending_forces(x, s.EI, L.l0)
+        if mk.has_point_loads:
+            self._point_loads(x, v, f)
+        if self.bend is not None:
+            f += bending_forces(x, self.bend[k:], 1.0)
         return f
 
     def _compiled_hydro(self, x: np.ndarray, v: np.ndarray) -> np.ndarray:
-        """``hydro`` (and ``_makeup_hydro``) with the compiled kernels: the same loads, into a
+        """``hydro`` with the compiled kernels: the same loads, into a
         buffer that the next call overwrites."""
         L, dr = self.layout, self.drum
         c, k, m = L.fast, dr.first, len(x) - 1
@@ -138,14 +144,14 @@ class CableLoads:
             u[:] = L.water.velocity(zg)
         else:
             compiled.element_water(x, *c["water"], rho, u)
-        mk = L.makeup
-        share = 0.5 if mk is not None else dr.fairlead_share / max(dr.drum_rest, 1e-300)
+        mk = L.line
+        share = dr.fairlead_share / max(dr.drum_rest, 1e-300)
         compiled.tether_loads(x, v, dr.deployed_rest, c["diameter"][k:], c["cd_normal"][k:],
                               c["cd_tangential"][k:], c["area"][k:], c["cd_area_float"][k:], rho, u,
                               L.water.gravity, share, f)
         if c["bend"] is not None:
             compiled.add_bending_forces(x, c["bend"][k:], f)
-        if mk is not None and mk.has_point_loads:
+        if mk.has_point_loads:
             self._point_loads(x, v, f)
         return f
 
@@ -153,7 +159,7 @@ class CableLoads:
         """Add each point load's buoyancy (under water) and drag 1/2 rho CdA |u - v| (u - v) at its
         node (its weight is in the node's mass) to ``f`` (N)."""
         L = self.layout
-        mk = L.makeup
+        mk = L.line
         z = np.minimum(x[:, 2], 0.0)
         wet = x[:, 2] <= 0.0
         rho = np.asarray(L.water.rho(z), float)
@@ -162,26 +168,6 @@ class CableLoads:
         if np.any(cda > 0):
             u = L.water.velocity(z) - v
             f += (0.5 * rho * cda * wet * np.sqrt(np.einsum("ij,ij->i", u, u)))[:, None] * u
-
-    def _makeup_hydro(self, x: np.ndarray, v: np.ndarray) -> np.ndarray:
-        """``hydro`` of a line make-up: each element with its own diameter, coefficients and
-        floats; each point load's buoyancy (under water) and drag 1/2 rho CdA |u - v| (u - v) at
-        its node (its weight is in the node's mass); bending with each joint's mean EI."""
-        L = self.layout
-        mk = L.makeup
-        float_cda = mk.element_float_cd_area
-        f = tether_loads(x, v, segment_length=self.drum.deployed_rest, diameter=mk.element_diameter,
-                         cd_normal=mk.element_cd_normal, cd_tangential=mk.element_cd_tangential,
-                         rho_fn=L.water.rho, current_fn=L.water.velocity, gravity=L.water.gravity,
-                         area=mk.element_area, float_cd_area=float_cda if np.any(float_cda > 0) else None,
-                         drag_law=L.spec.drag_law)
-        if mk.has_point_loads:
-            self._point_loads(x, v, f)
-        EI = mk.element_EI
-        if np.any(EI > 0):
-            rest = self.drum.deployed_rest
-            f += bending_forces(x, 0.5 * (EI[1:] + EI[:-1]), 0.5 * (rest[1:] + rest[:-1]))
-        return f
 
     def native_table(self):
         """This tether's arrays for the native callback (``native``, slots ``T_*``), or None where
@@ -192,22 +178,22 @@ class CableLoads:
         if c is None or c["water"] is None or contact.grid is not None:  # (a height field's friction: NumPy)
             return None
         dkind, dp, ckind, cp = c["water"]
-        mk, n = L.makeup, L.n
+        mk, n = L.line, L.n
         empty = np.zeros(0)
         mode, real = 0, np.zeros(13)
         real[0] = L.water.gravity
         if contact.seabed is not None:
             point, normal, w = contact.seabed
-            mode = 2 if mk is not None else (3 if w <= 0.0 else 1)
+            mode = 2 if not L.pays_out else (3 if w <= 0.0 else 1)  # (the nodes' own weights: see friction)
             # (over dt^2 and dt at each step: a pre-roll changes the time step)
             real[1:7] = (STICK_STIFFNESS, 2.0 * STICK_DAMPING * math.sqrt(STICK_STIFFNESS), w,
                          float(L.tm.seabed_friction), L.spec.diameter / 2, CONTACT_TOLERANCE)
             real[7:10], real[10:13] = point, normal
         wrap = -1 if L.normal_prm is None else int(L.model.tendon_adr[L.normal_ten.start])
-        points = mk is not None and mk.has_point_loads
+        points = mk.has_point_loads
         ints = np.array([n, L.vertadr, L.dof0, mode, contact.stick.start if mode else 0,
                          c["bend"] is not None, dkind, ckind, points, wrap], dtype=np.int64)
-        node = (lambda a: np.ascontiguousarray(a, dtype=float)) if mk is not None else (lambda a: empty)  # noqa: E731
+        node = lambda a: np.ascontiguousarray(a, dtype=float)  # noqa: E731
         return [ints, real, dr.native_state, dr.rest, dr.inertia, c["diameter"], c["cd_normal"],
                 c["cd_tangential"], c["area"], c["cd_area_float"], empty if c["bend"] is None else c["bend"], dp, cp,
                 node(getattr(contact, "node_wet", empty)) if mode == 2 else empty,

@@ -467,6 +467,12 @@ class LineMakeup:
     def has_point_loads(self) -> bool:
         return any(isinstance(p, PointLoad) for p in self.loads)
 
+    @property
+    def has_floats(self) -> bool:
+        """Any distributed buoyancy (float sections): the elements' displaced area is then not
+        the line's own pi d^2 / 4 alone."""
+        return any(isinstance(p, DistributedBuoyancy) for p in self.loads)
+
     def node_wet_weight(self, rho_water: float = 1025.0, gravity: float = 9.81) -> np.ndarray:
         """Submerged weight of the point loads on each node (N); negative where buoyant."""
         return (self.node_mass - rho_water * self.node_volume) * gravity

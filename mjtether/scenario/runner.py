@@ -154,7 +154,8 @@ class ScenarioRun:
                                          end_at=robot if self.walker or self.is_vehicle else None,
                                          added_mass=sc.tether.added_mass,
                                          start_at=top)  # (the fairlead's place: no compile to find it)
-        self.sim = Simulation(spec, self.water, tethers=[self.tm] if self.tethered else [], bodies=scene.bodies)
+        self.sim = Simulation(spec, self.water, tethers=[self.tm] if self.tethered else [], bodies=scene.bodies,
+                              warn_EA=False)  # (it warns naming tether.EA: _check_EA)
         self._ship_tension = (-1, 0.0)  # (simulation revision, N): see ship_end_tension
         self.ship_pilot = None
         try:
@@ -222,8 +223,9 @@ class ScenarioRun:
         the cable softer (``builder``: the solver cannot slow its axial mode enough), naming the
         effective EA and the step that would keep it (``stability.ea_timestep``); None for an
         inextensible tether."""
-        asked = self.makeup.element_EA[self.bt.drum.first:] if self.makeup is not None else self.tether_spec.EA
-        report = softening.softening(asked, self.bt.effective_EA)
+        asked = self.bt.drum.EA[self.bt.drum.first:]  # N, each deployed element's (inf: inextensible)
+        elastic = np.isfinite(asked)
+        report = softening.softening(asked[elastic], self.bt.effective_EA[elastic]) if elastic.any() else None
         if report is not None and report["ratio"] < softening.SOFT:
             if self.makeup is None:
                 keep = (f"; simulation.timestep = {stability.ea_timestep(self.tether_spec, self.water):.3g} s or "

@@ -13,7 +13,8 @@ from dataclasses import dataclass, replace
 import mujoco
 import numpy as np
 
-from mjtether.cable.tether import MAX_REACH_STRAIN
+from mjtether.cable.makeup import LineMakeup
+from mjtether.cable.tether import MAX_REACH_STRAIN, TetherSpec
 from mjtether.physics import water as wm
 from mjtether.quasistatic import initial_state, steady_state
 from mjtether.simulation import Simulation
@@ -199,7 +200,7 @@ def steady_start(scene: Scene, top, robot, dt: float):
                            current=scene.water.current, gravity=scene.water.gravity)
     L = scene.line.length
     reach = float(np.linalg.norm(robot - top))
-    if scene.makeup is None and scene.tether_spec.EA is None and reach >= L:
+    if not np.isfinite(line_of(scene).element_EA).any() and reach >= L:
         return None, (f"tether.length = {L:g} m: too short for its ends: the ship's fairlead and the robot's tow "
                       f"point are {reach:.2f} m apart and the tether is inextensible (tether.EA = 0); give "
                       f"tether.length > {reach:.2f} m or tether.EA > 0, or move the robot or the ship closer")
@@ -231,8 +232,8 @@ def steady_start(scene: Scene, top, robot, dt: float):
             0.5 * (s_new[1:] + s_new[:-1]), 0.5 * (s_solved[1:] + s_solved[:-1]), ss.tension),
             bottom_force=ss.bottom_force + hang)
     x = ss.nodes
-    EA = scene.tether_spec.EA if scene.makeup is None else scene.makeup.element_EA  # (inf or NaN: inextensible)
-    strain = np.nan_to_num(ss.tension / (np.inf if EA is None else EA), nan=0.0)
+    EA = line_of(scene).element_EA  # (inf: inextensible)
+    strain = np.nan_to_num(ss.tension / EA, nan=0.0)
     if strain.max() > MAX_START_STRAIN:
         j = int(np.argmax(strain))
         return None, _too_heavy_note(scene, 100 * strain[j], ss.tension[j])
@@ -242,14 +243,18 @@ def steady_start(scene: Scene, top, robot, dt: float):
     return ss, note
 
 
+def line_of(scene: Scene) -> LineMakeup:
+    """The scenario's line as a make-up: its own, or the uniform tether's one section."""
+    line = scene.line
+    return LineMakeup.uniform(line) if isinstance(line, TetherSpec) else line
+
+
 def rise_weight_per_length(scene: Scene, z: float) -> float:
     """Wet weight per metre (N/m, positive if it sinks) of the cable at the robot's end, in the water
     at depth ``z`` (m, world): a uniform tether's, or a make-up's last element's (its floats and point
     loads left out)."""
-    if scene.makeup is None:
-        mu, area = scene.tether_spec.mu, scene.tether_spec.area
-    else:
-        mu, area = float(scene.makeup.element_mass_per_length[-1]), float(scene.makeup.element_area[-1])
+    line = line_of(scene)
+    mu, area = float(line.element_mass_per_length[-1]), float(line.element_area[-1])
     rho = float(np.asarray(scene.water.rho(z)).ravel()[0])
     return (mu - rho * area) * scene.water.gravity
 
