@@ -97,6 +97,7 @@ from mjtether.analytic import sagged_polyline
 from mjtether.physics import dispatch
 from mjtether.physics.water import WaterColumn
 
+from . import ends
 from .makeup import LineMakeup
 from .tether import ADDED_MASS, TetherSpec
 
@@ -331,6 +332,7 @@ class TetherModel:
     makeup: LineMakeup | None = None  # the sections and point loads, for a non-uniform line
     userdata_adr: int = -1  # where the nodes' stick points (3 per node) start in MuJoCo's userdata
     added_mass: str = "isotropic"  # or "normal": see add_tether
+    end_mass_to: tuple = ()  # the ends whose node's mass its support's body carries (see add_tether)
 
     @property
     def flex(self) -> str:
@@ -518,6 +520,7 @@ def add_tether(
     added_mass: str | None = None,
     start_at=None,
     contact_bit: int = TETHER_CONTACT_BIT,
+    end_mass_to=None,
 ) -> TetherModel:
     """Add ``tether`` to ``spec`` between ``start`` (the ship end, where its drum is) and ``end``.
 
@@ -552,6 +555,8 @@ def add_tether(
             its own (``add_seabed``'s ``lower`` and ``bits``). (Not by a contact capsule of no
             radius: on a height field, where its cells' prisms meet, such a capsule finds the
             nearest way out sideways, through the neighbouring prism's wall, and sinks.)
+        end_mass_to: ``"start"``, ``"end"`` or both (a tuple): the ends whose node's mass the
+            support's body carries instead (``cable.ends``: the node keeps its loads); default none.
 
     The cable's own parts are made once per layout (``cable_parts``: element count, drum
     capacity, diameter, contact, added mass) and copied into ``spec`` under the prefix
@@ -645,6 +650,7 @@ def add_tether(
                      nominal_length=l0, initial_nodes=all_nodes,
                      max_length=float(max(L, max_length or 0.0)), seabed_friction=seabed_friction,
                      makeup=makeup, added_mass=added_mass)
+    tm.end_mass_to = ends.parse_end_mass_to(end_mass_to, start, end, drum=n > N)
     if seabed_friction is not None:  # the nodes' stick points on the seabed (see mjtether.cable.seabed)
         tm.userdata_adr = spec.nuserdata
         spec.nuserdata += 3 * (n + 1)

@@ -642,7 +642,7 @@ def load_any(path, overrides=()):
     (``"default_walker"``, ``"networks/rov_cage_excursion"``)."""
     import tomllib
 
-    from mjtether.io.packagedata import shipped_example
+    from mjtether.files.packagedata import shipped_example
     from mjtether.network import NetworkError, from_dict
     from mjtether.scenario.loading import _read
     path = shipped_example(path) or path  # (a shipped example by name: "default_walker")
@@ -673,4 +673,4 @@ def load_any(path, overrides=()):
     return load_scenario(path, text=text, name=name, overrides=overrides)
 
 
-from .moordyn_write import current_profile, write, write_network  # noqa: F401 - the writers, re-exported
+from .moordyn_write import current_profile, current_table, write, write_network  # noqa: F401 - the writers, re-exported

@@ -13,8 +13,9 @@ Several lines may share a point (a bridle, a spread mooring, two lines to one an
 is ``coupled`` or ``fixed`` (held at its pose), ``free`` (a 6-DOF rigid body) or ``pinned`` (turning
 freely about its ``pin``, a point held in the world: MoorDyn's pinned rods and bodies). A vehicle
 (``Vehicle``: a vehicle file, such as the BlueROV2 Heavy) flies on its own thrusters, holding a
-station. A line may pay out from a winch at its end B (a drum on a cage, say) at a constant speed
-up to a length. Units SI,
+station; a walker (``Walker``: the scenario's hexapod) stands on the seabed and walks on its
+gait. A line may pay out from a winch at its end B (a drum on a cage, say) at a constant speed
+up to a length. The water may be written as a scenario writes it (``WATER_TABLES``). Units SI,
 world frame z up, water surface at z = 0, seabed at z = -depth; angles in degrees.
 """
 
@@ -199,6 +200,60 @@ class Vehicle:
         return load_vehicle(self.vehicle)
 
 
+WALKER_TOW_POINT = (-0.85, 0.0, 0.05)
+"""The walker's tow point (m, its torso's frame: x forward, z up): ``assets/walker/walker.xml``'s
+site ``tow_point``; a ``body`` point on a walker given no ``position`` is there."""
+
+
+@dataclass(frozen=True)
+class Walker:
+    """A seabed walker: the scenario's hexapod (``mjtether.walker``, 650 kg in air) standing on
+    the seabed at ``position`` (x, y m, world; at the seabed's height there) facing ``heading_deg``
+    (from +x towards +y), walking on its tripod gait with the scenario's speed ramp and heading
+    hold (``scenario.controllers.GaitDrive``): forward at ``speed`` (m/s; 0: it stands, stepping
+    in place) or on the schedule ``commands`` (rows of time s, forward speed m/s, turn rate deg/s,
+    each held until the next: the scenario's ``robot.commands``); ``gait_period`` (s): its gait's
+    cycle. Lines attach to it at ``body`` points (its torso's frame: x forward, z up; its tow
+    point ``WALKER_TOW_POINT``). The ranges are the scenario's ``[robot]`` ones."""
+
+    name: str
+    position: tuple
+    heading_deg: float = 0.0
+    speed: float = 0.0
+    commands: tuple | None = None
+    gait_period: float = 1.2
+
+    def __post_init__(self):
+        from mjtether.scenario.sections import Robot
+        from mjtether.walker import Tripod
+        where = f"walker {self.name!r}"
+        try:  # (the scenario's checks of a walker: ranges, the schedule's times, its top speed and turn)
+            schedule = {} if self.commands is None else {"commands": self.commands}
+            robot = Robot(type="walker", start=self.position, heading_deg=self.heading_deg,
+                          gait_period=self.gait_period, **schedule)
+        except ValueError as exc:
+            why = str(exc).replace("robot.start", "position").replace("robot.", "")
+            raise NetworkError(f"{where}: {why}") from None
+        object.__setattr__(self, "position", tuple(robot.start))
+        object.__setattr__(self, "heading_deg", robot.heading_deg)
+        object.__setattr__(self, "gait_period", robot.gait_period)
+        if self.commands is not None:
+            object.__setattr__(self, "commands", tuple(tuple(row) for row in robot.commands))
+        _checks.finite(f"{where}: speed", self.speed)
+        top = Tripod.max_stride / (self.gait_period / 2)
+        if not -top <= self.speed <= top:
+            raise NetworkError(f"{where}: speed = {self.speed!r}: must be in [-{top:.2f}, {top:.2f}] m/s (the "
+                               f"walker's top speed at gait_period = {self.gait_period:g} s)")
+        if self.commands is not None and self.speed != 0.0:
+            raise NetworkError(f"{where}: give speed or commands, not both")
+
+    @property
+    def schedule(self) -> tuple:
+        """Its commands as rows of (time s, speed m/s, turn rate rad/s)."""
+        rows = self.commands if self.commands is not None else ((0.0, self.speed, 0.0),)
+        return tuple((t, v, math.radians(w)) for t, v, w in rows)
+
+
 @dataclass(frozen=True)
 class Line:
     """A line of ``type`` from point ``a`` (MoorDyn's end A, usually the anchor) to point ``b``:
@@ -238,7 +293,10 @@ class Network:
     3-D seafloor file, or a depth grid with its spacing and first node, m), a MuJoCo height field;
     ``start``: ``"steady"`` (the free points and bodies in equilibrium, ``statics.equilibrium``,
     then settled) or ``"as_written"`` (every point at rest where it is given, each line's own
-    steady state between its ends, no settling: a pendulum released from its given angle)."""
+    steady state between its ends, no settling: a pendulum released from its given angle).
+    ``current``: the current as a scenario writes it instead (``[water.current]``: a
+    ``scenario.Current``, any of its types, checked as a scenario checks it), not with the
+    ``current_depths`` table; ``walkers``: {name: ``Walker``}."""
 
     name: str
     line_types: dict
@@ -264,6 +322,8 @@ class Network:
     settle: float = 0.0
     start: str = "steady"
     notes: tuple = ()
+    walkers: dict = field(default_factory=dict)
+    current: object = None
 
     def __post_init__(self):
         _checks.positive("water.depth", self.depth, "m")
@@ -285,6 +345,12 @@ class Network:
         if not (len(self.current_depths) == len(self.current_speeds) == len(self.current_headings_deg)):
             raise NetworkError("water.current_depths, current_speeds and current_headings_deg must be as long as "
                                "each other")
+        if self.current is not None:
+            object.__setattr__(self, "current", _scenario_current(self.current))
+            if self.current_depths:
+                raise NetworkError("water: give the current as [water.current] or as current_depths, current_speeds "
+                                   "and current_headings_deg, not both")
+        object.__setattr__(self, "bathymetry_origin_m", tuple(self.bathymetry_origin_m))
         if self.bathymetry:
             try:
                 self.grid
@@ -309,12 +375,18 @@ class Network:
                 if end not in self.points:
                     raise NetworkError(f"line {ln.name!r}: point {end!r} is not a point ({', '.join(self.points)})")
         for p in self.points.values():
-            if p.kind == "body" and p.body not in self.bodies and p.body not in self.vehicles:
-                raise NetworkError(f"point {p.name!r}: body {p.body!r} is not a body or vehicle "
-                                   f"({', '.join([*self.bodies, *self.vehicles])})")
+            if p.kind == "body" and p.body not in self.bodies and p.body not in self.vehicles \
+                    and p.body not in self.walkers:
+                raise NetworkError(f"point {p.name!r}: body {p.body!r} is not a body, vehicle or walker "
+                                   f"({', '.join([*self.bodies, *self.vehicles, *self.walkers])})")
         both = set(self.bodies) & set(self.vehicles)
         if both:
             raise NetworkError(f"vehicles: {', '.join(sorted(both))} also named as a body")
+        both = set(self.walkers) & (set(self.bodies) | set(self.vehicles))
+        if both:
+            raise NetworkError(f"walkers: {', '.join(sorted(both))} also named as a body or vehicle")
+        for w in self.walkers.values():
+            self._check_walker_ground(w)
         for ln in self.lines:
             self._check_held_span(ln)
 
@@ -330,6 +402,18 @@ class Network:
                                f"{span:g} m apart would stretch it {100 * (span / ln.length - 1):.0f} %; a line "
                                f"held at both ends needs length >= {span / (1 + MAX_HELD_STRAIN):g} m (stretch "
                                f"at most {100 * MAX_HELD_STRAIN:.0f} %)")
+
+    def _check_walker_ground(self, w) -> None:
+        """Refuse a walker off the bathymetry grid (within 1 m of its edge: its feet reach that far)
+        or where the seabed is less than 1 m deep (as a scenario's walker)."""
+        grid = self.grid
+        if grid is not None and not grid.covers(*w.position, margin=1.0):
+            raise NetworkError(f"walker {w.name!r}: position {list(w.position)} is off the bathymetry grid, or "
+                               "within 1 m of its edge")
+        z = self.seabed_height(*w.position)
+        if z >= -1.0:
+            raise NetworkError(f"walker {w.name!r}: position {list(w.position)}: the seabed there is at z = {z:.2f} m; "
+                               "the walker needs at least 1 m of water")
 
     @property
     def seabed_z(self) -> float:
@@ -360,7 +444,44 @@ _SECTIONS = {"water": {"depth", "rho", "gravity", "seabed_stiffness", "seabed_da
                        "current_depths", "current_speeds", "current_headings_deg", "bathymetry",
                        "bathymetry_spacing_m", "bathymetry_origin_m"},
              "simulation": {"duration", "timestep", "output_interval", "settle", "start"},
-             "line_types": None, "points": None, "bodies": None, "vehicles": None, "lines": None}
+             "line_types": None, "points": None, "bodies": None, "vehicles": None, "walkers": None, "lines": None}
+WATER_TABLES = ("current", "density")
+"""``[water.current]`` and ``[water.density]``: the water written as a scenario writes it
+(``scenario.Current``, ``scenario.Density``: the same keys, meanings and checks). The current
+replaces the ``current_depths`` table; the density must be ``type = "constant"`` (a network's
+statics take one density) and replaces ``rho``, its alias."""
+
+
+def _scenario_current(value):
+    """A ``scenario.Current`` from one, or from its table (a dict, as TOML gives it: ``[water.current]``)."""
+    from mjtether.scenario import config as scenario_config
+    from mjtether.scenario.sections import Current
+    if isinstance(value, dict):
+        return scenario_config.build(Current, value)
+    if not isinstance(value, Current):
+        raise NetworkError(f"water.current must be a [water.current] table (a scenario.Current), got {value!r}")
+    return value
+
+
+def _water_tables(table: dict) -> dict:
+    """The Network fields of ``[water]``'s sub-tables ``WATER_TABLES``, checked by the scenario's sections."""
+    from mjtether.scenario import config as scenario_config
+    from mjtether.scenario.sections import Density
+    out = {}
+    for key in WATER_TABLES:
+        if key in table and not isinstance(table[key], dict):
+            raise NetworkError(f"water.{key} must be a table [water.{key}], got {table[key]!r}")
+    if "current" in table:
+        out["current"] = _scenario_current(table["current"])
+    if "density" in table:
+        d = scenario_config.build(Density, table["density"])
+        if d.type != "constant":
+            raise NetworkError(f"water.density.type = {d.type!r}: a network's water has one density: give "
+                               "type = \"constant\" with rho (kg/m^3), or water.rho")
+        if "rho" in table:
+            raise NetworkError("water: give the density as [water.density] rho or as water.rho, not both")
+        out["rho"] = d.rho
+    return out
 
 
 def _fields(cls) -> set:
@@ -385,10 +506,12 @@ def _table(source: str, where: str, entry, cls, **extra):
 
 
 def from_dict(data: dict, name: str = "<network>", overrides=()) -> Network:
-    """A network from its TOML tree: ``[water]`` and ``[simulation]`` (the ``Network`` fields),
-    ``[line_types.NAME]``, ``[points.NAME]``, ``[bodies.NAME]`` and ``[vehicles.NAME]`` (the fields
-    of ``LineType``, ``Point``, ``Body`` and ``Vehicle``) and ``[[lines]]`` (those of ``Line``,
-    ``name`` included);
+    """A network from its TOML tree: ``[water]`` and ``[simulation]`` (the ``Network`` fields;
+    ``[water.current]`` and ``[water.density]`` as a scenario writes them, ``WATER_TABLES``),
+    ``[line_types.NAME]``, ``[points.NAME]``, ``[bodies.NAME]``, ``[vehicles.NAME]`` and
+    ``[walkers.NAME]`` (the fields of ``LineType``, ``Point``, ``Body``, ``Vehicle`` and
+    ``Walker``; a ``body`` point on a walker given no ``position`` is at its tow point) and
+    ``[[lines]]`` (those of ``Line``, ``name`` included);
     ``overrides`` as in ``with_overrides``."""
     unknown = set(data) - set(_SECTIONS)
     if unknown:
@@ -397,13 +520,22 @@ def from_dict(data: dict, name: str = "<network>", overrides=()) -> Network:
     flat = {}
     for sec in ("water", "simulation"):
         table = data.get(sec, {})
-        bad = set(table) - _SECTIONS[sec]
+        tables = WATER_TABLES if sec == "water" else ()
+        bad = set(table) - _SECTIONS[sec] - set(tables)
         if bad:
             raise NetworkError(f"{name}: [{sec}]: unknown key(s) {', '.join(sorted(bad))}; allowed: "
-                               f"{', '.join(sorted(_SECTIONS[sec]))}")
-        flat.update({(sec, k): v for k, v in table.items()})
+                               f"{', '.join(sorted(_SECTIONS[sec]))}" + (" and the tables [water.current], "
+                                                                         "[water.density]" if tables else ""))
+        flat.update({(sec, k): v for k, v in table.items() if k not in tables})
+        if tables:
+            try:
+                flat.update({(sec, k): v for k, v in _water_tables(table).items()})
+            except ValueError as exc:
+                raise NetworkError(f"{name}: {exc}") from None
+    walkers = {k: _table(name, f"walkers.{k}", v, Walker, name=k) for k, v in data.get("walkers", {}).items()}
     types = {k: _table(name, f"line_types.{k}", v, LineType, name=k) for k, v in data.get("line_types", {}).items()}
-    points = {k: _table(name, f"points.{k}", v, Point, name=k) for k, v in data.get("points", {}).items()}
+    points = {k: _table(name, f"points.{k}", _at_tow_point(v, walkers), Point, name=k)
+              for k, v in data.get("points", {}).items()}
     bodies = {k: _table(name, f"bodies.{k}", v, Body, name=k) for k, v in data.get("bodies", {}).items()}
     vehicles = {k: _table(name, f"vehicles.{k}", v, Vehicle, name=k) for k, v in data.get("vehicles", {}).items()}
     lines = data.get("lines", [])
@@ -416,42 +548,43 @@ def from_dict(data: dict, name: str = "<network>", overrides=()) -> Network:
         line_list.append(_table(name, f"lines[{i}] ({entry['name']!r})", {k: v for k, v in entry.items()
                                                                           if k != "name"}, Line, name=str(entry["name"])))
     try:
-        net = Network(name, types, points, tuple(line_list), bodies=bodies, vehicles=vehicles,
+        net = Network(name, types, points, tuple(line_list), bodies=bodies, vehicles=vehicles, walkers=walkers,
                       **{k: v for (_, k), v in flat.items()})
     except ValueError as exc:
         raise NetworkError(f"{name}: {exc}") from None
+    from .overrides import with_overrides
     return with_overrides(net, overrides)
 
 
-def with_overrides(net: Network, overrides=()) -> Network:
-    """``net`` with ``--set`` items ``simulation.KEY=VALUE`` or ``water.KEY=VALUE`` (numbers;
-    ``simulation.timestep=none``: the largest stable step; ``simulation.start=as_written``)
-    applied and checked."""
-    changes = []  # (field, value, the label to blame: "--set KEY=VALUE", or the one load_scenario was given)
-    for item in overrides:
-        item, label = item if isinstance(item, tuple) else (item, f"--set {item}")
-        key, eq, val = str(item).partition("=")
-        key = key.strip()
-        sec, _, field_ = key.partition(".")
-        if not eq or sec not in ("water", "simulation") or field_ not in _SECTIONS[sec] \
-                or field_.startswith(("current", "bathymetry")):
-            raise NetworkError(f"--set {key}: a network takes --set KEY=VALUE with KEY one of "
-                               + ", ".join(f"{s}.{k}" for s in ("simulation", "water") for k in sorted(_SECTIONS[s])
-                                         if not k.startswith(("current", "bathymetry"))))
-        if field_ == "start":
-            changes.append((field_, val.strip(), label))
-            continue
-        try:
-            value = None if (field_ == "timestep" and val.strip().lower() == "none") else float(val)
-        except ValueError:
-            raise NetworkError(f"--set {key}: give {key}=NUMBER, got {val!r}") from None
-        changes.append((field_, value, label))
-    try:
-        return dataclasses.replace(net, **{f: v for f, v, _ in changes}) if changes else net
-    except ValueError as exc:
-        for field_, value, label in changes:  # which --set: the first refused on its own
-            try:
-                dataclasses.replace(net, **{field_: value})
-            except ValueError as alone:
-                raise NetworkError(f"{label}: {alone}") from None
-        raise NetworkError(f"{', '.join(label for _, _, label in changes)}: {exc}") from None
+def _at_tow_point(entry, walkers: dict):
+    """A ``body`` point's table on a walker, given no position: at its tow point."""
+    if isinstance(entry, dict) and entry.get("kind") == "body" and entry.get("body") in walkers \
+            and "position" not in entry:
+        return {**entry, "position": WALKER_TOW_POINT}
+    return entry
+
+
+def to_dict(net: Network) -> dict:
+    """``net`` as the TOML tree ``from_dict`` reads (``from_dict(to_dict(net)) == net``, notes
+    aside): what a results folder's ``summary.json`` keeps so that the run can be rebuilt."""
+    def table(obj):
+        values = {f.name: getattr(obj, f.name) for f in dataclasses.fields(obj) if f.name != "name"}
+        return {k: (list(v) if isinstance(v, tuple) else v) for k, v in values.items() if v is not None}
+
+    water = {k: getattr(net, k) for k in _SECTIONS["water"]}
+    sim = {k: getattr(net, k) for k in _SECTIONS["simulation"] if getattr(net, k) is not None}
+    out = {"water": {k: (list(v) if isinstance(v, tuple) else v) for k, v in water.items()},
+           "simulation": sim,
+           "line_types": {k: table(v) for k, v in net.line_types.items()},
+           "points": {k: table(v) for k, v in net.points.items()},
+           "lines": [{"name": ln.name, **table(ln)} for ln in net.lines]}
+    if net.bodies:
+        out["bodies"] = {k: table(v) for k, v in net.bodies.items()}
+    if net.vehicles:
+        out["vehicles"] = {k: table(v) for k, v in net.vehicles.items()}
+    if net.walkers:
+        out["walkers"] = {k: {f: ([list(r) for r in v] if f == "commands" else v) for f, v in table(w).items()}
+                          for k, w in net.walkers.items()}
+    if net.current is not None:
+        out["water"]["current"] = {k: v for k, v in net.current.to_dict().items() if v is not None}
+    return out

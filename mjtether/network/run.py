@@ -4,21 +4,28 @@ point and free body a rigid body with its hydrodynamics, every held point a worl
 Each line is added with its end B as the tether's start and end A as its end (MoorDyn's ends:
 A usually the anchor, B the fairlead). A free point is a body with a free joint carrying the
 point's mass, buoyancy (its volume, over its waterline band where it pierces the surface:
-``config.waterline_height``), drag (CdA on each of its axes) and added mass (Ca rho V);
-a point lighter than the end nodes of its lines is given that much more inertia, with its
-weight compensated (MuJoCo's ``gravcomp``), so that the constraints that hold the line ends to
-it are as well conditioned as the rest: the statics are exact, but a free line end moves with
-twice its inertia (a 10-segment line of 240 kg moves as 264 kg). Giving a massless point its own
-1 g instead moved MoorPy's case8.dat bridle 42 % off MoorDyn-C, so the line end's mass must move
-into the point's body instead (not done yet). Coupled and fixed bodies are held at their pose; a
-free body starts at its given pose (the statics hold it there) and settles; a pinned body turns
-on a ball joint at its pin (its added mass there as the diagonal of the rigid-body transform to
+``config.waterline_height``), drag (CdA on each of its axes) and added mass (Ca rho V), and
+the lumped masses of its lines' end nodes (the sum over the line ends there, with their real
+weight): each of those nodes keeps 0.1 % of its mass and its loads (``cable.ends``), so that a
+free line end moves with the line's own inertia (a 10-segment line of 240 kg sliding on the
+seabed as 240 kg, not as the 292 kg the drum's conditioning armature at its ends and a point as
+heavy as its end node made it), and the point's connects are as well conditioned as the
+line's (a massless point given its own 1 g instead moved MoorPy's case8.dat bridle 42 % off
+MoorDyn-C). A line's force on a point is its connect's with the moved weight added back
+(MoorDyn's: the end node's weight with the line's pull). Coupled and fixed bodies are held at their pose; a
+free body starts at the pose where its weight, buoyancy and lines balance (``statics.equilibrium``
+with ``bodies=True``; its given pose where that is not found, or with ``simulation.start =
+"as_written"``) and settles; a pinned body starts turned to its balance about its pin and turns
+on a ball joint there (its added mass there as the diagonal of the rigid-body transform to
 the pin, ``rigidbody.BoundBodyHydro``). A vehicle is its
 vehicle file's MuJoCo body (``vehicles.build_vehicle``), flown by the scenario's autopilot
-(``VehiclePilot``) holding its station; a line paying out has its drum at end B, whose deployed
+(``VehiclePilot``) holding its station; a walker is the scenario's hexapod standing on the seabed,
+walking on the scenario's gait drive (``walkers``); a line paying out has its drum at end B, whose deployed
 length grows at its payout speed up to its max_length (``BoundTether.set_length``). Lines rest
 on the seabed with their axis on it, as MoorDyn's nodes do: each diameter touches its own copy
-of the seabed, lowered by its radius (``_add_seabeds``).
+of the seabed, lowered by its radius (``_add_seabeds``). With seabed friction every line starts
+with it mobilised as the statics' catenary has it (``preload_friction``), and the first row's
+line forces are those the first step finds (``first_forces``).
 
 The time step is the largest that every line allows (``cable.stability.max_timestep`` at the
 steady-state tension, and the seabed contact's limit), at most ``MAX_TIMESTEP``, halved where a run
@@ -40,6 +47,7 @@ import mujoco
 import numpy as np
 
 from mjtether.cable import builder, softening, stability
+from mjtether.cable import ends as line_ends
 from mjtether.physics import water as wm
 from mjtether.physics.rigidbody import RigidBodyHydro, add_body_hydro
 from mjtether.scenario.controllers import VehiclePilot
@@ -47,7 +55,8 @@ from mjtether.simulation import Simulation, SimulationDiverged
 from mjtether.vehicles.files import build_vehicle
 
 from . import statics
-from .config import Network, waterline_height
+from . import walkers as walker_parts
+from .config import Network, to_dict, waterline_height
 
 MAX_TIMESTEP = 0.005
 """Longest step taken (s): bodies, vehicles and free points have no stability limit of their own in
@@ -57,9 +66,19 @@ stability limits allowed it; at 5 ms they settle as at 2 ms, 0.01 %.)"""
 
 
 def water_of(net: Network) -> wm.WaterColumn:
-    """The network's water column (its current's headings from degrees to radians)."""
+    """The network's water column (its current's headings from degrees to radians): a
+    ``[water.current]`` made into its ``physics.water`` profile by the scenario's own code
+    (``scenario.scene.water_from``), or the ``current_depths`` table."""
     current = None
-    if net.current_depths:
+    if net.current is not None:
+        from types import SimpleNamespace
+
+        from mjtether.scenario.scene import water_from
+        from mjtether.scenario.sections import Density
+        sc = SimpleNamespace(water=SimpleNamespace(depth=net.depth, gravity=net.gravity, current=net.current,
+                                                   density=Density(rho=net.rho)))
+        current = water_from(sc).current
+    elif net.current_depths:
         current = wm.TabulatedCurrent(net.current_depths, net.current_speeds,
                                       [math.radians(h) for h in net.current_headings_deg])
     return wm.WaterColumn(depth=net.depth, density=wm.ConstantDensity(net.rho), gravity=net.gravity,
@@ -73,7 +92,10 @@ def _quat(rpy_deg) -> list:
 
 
 def body_frame(net: Network, name: str):
-    """World position (m) and rotation matrix of a body (or vehicle) at its pose in the network."""
+    """World position (m) and rotation matrix of a body (or vehicle) at its pose in the network,
+    or of a walker's torso where it stands (``walkers.torso_frame``)."""
+    if name in net.walkers:
+        return walker_parts.torso_frame(net, name, water_of(net))
     b = net.bodies.get(name)
     pos, rpy = (b.position, b.rpy_deg) if b is not None else (net.vehicles[name].position,
                                                                 (0.0, 0.0, net.vehicles[name].heading_deg))
@@ -101,7 +123,7 @@ def timestep_for(net: Network, states: dict, water: wm.WaterColumn) -> float:
     vehicles are in it (they have no stability limit of their own yet) and the scenario's
     ``stable_step.MAX_TIMESTEP`` where every point is held."""
     from mjtether.scenario.stable_step import MAX_TIMESTEP as HELD_MAX
-    moving = net.vehicles or any(p.kind == "free" for p in net.points.values()) \
+    moving = net.vehicles or net.walkers or any(p.kind == "free" for p in net.points.values()) \
         or any(b.kind in MOVING for b in net.bodies.values())
     dts = [MAX_TIMESTEP if moving else HELD_MAX]
     for ln in net.lines:
@@ -141,13 +163,17 @@ class NetworkRun:
     timestep: float
     pilots: dict = None  # vehicle name -> its VehiclePilot
     vehicle_bodies: dict = None  # vehicle name -> its BoundVehicle
+    walkers: dict = field(default_factory=dict)  # walker name -> its ``walkers.WalkerGait``
     _scratch: mujoco.MjData | None = field(default=None, repr=False)  # (see poses_now)
     history: dict = field(default_factory=dict)  # line name -> its ``record``s, one per sample
     effective_EA: dict = field(default_factory=dict)  # line name -> ``softening.softening`` at the step
+    states: list = field(default_factory=list)  # ``qpos`` at each sample's time (see ``record``)
+    video: dict | None = None  # the video's file, frames, fps, camera and tension scale, where one was made
+    end_inertia: dict = field(default_factory=dict)  # line -> {side: kg}: see ``end_inertia``
 
     def advance(self, steps: int) -> None:
-        """Step ``steps`` times; with vehicles or winches, their controls act before each step."""
-        if not self.pilots and not any(ln.payout_speed > 0 for ln in self.net.lines):
+        """Step ``steps`` times; with vehicles, walkers or winches, their controls act before each step."""
+        if not self.pilots and not self.walkers and not any(ln.payout_speed > 0 for ln in self.net.lines):
             self.sim.step(steps)
             return
         dt = self.timestep
@@ -155,11 +181,15 @@ class NetworkRun:
             t = self.sim.time
             for pilot in self.pilots.values():
                 pilot.update(self, t, dt)
+            for gait in self.walkers.values():
+                gait.update(self, t, dt)
             for ln in self.net.lines:
                 if ln.payout_speed > 0:
                     length = ln.length + ln.payout_speed * (t + dt)
-                    self.sim.tethers[ln.name].set_length(min(length, ln.max_length),
-                                                         rate=ln.payout_speed if length < ln.max_length else 0.0)
+                    bt = self.sim.tethers[ln.name]
+                    bt.set_length(min(length, ln.max_length), rate=ln.payout_speed if length < ln.max_length else 0.0)
+                    if bt.tm.end_mass_to:  # (the drum resets the masses when it releases a node)
+                        line_ends.move_end_masses(bt, self.end_inertia[ln.name])
             self.sim.step()
 
     def deployed_length(self, name: str) -> float:
@@ -169,8 +199,9 @@ class NetworkRun:
     def line_forces(self, name: str) -> tuple[np.ndarray, np.ndarray]:
         """Forces of line ``name`` on its ends A and B (N, world)."""
         bt = self.sim.tethers[name]
-        d = self.sim.data
-        return bt.end_force(d, "end"), bt.end_force(d, "start")
+        d = self.sim.data  # (with the weight of the end node's mass its point carries: ``cable.ends``)
+        return (bt.end_force(d, "end") + line_ends.moved_weight(bt, "end"),
+                bt.end_force(d, "start") + line_ends.moved_weight(bt, "start"))
 
     def line_nodes(self, name: str) -> np.ndarray:
         """Node positions (m, world) of line ``name`` from end A to end B."""
@@ -188,6 +219,7 @@ class NetworkRun:
             h["nodes"].append(bt.all_nodes(d)[::-1])
             h["tension"].append(bt.element_tension(d)[::-1])
             h["compression"].append(bt.take_peak_compression(d)[::-1])  # (the largest since the last sample)
+        self.states.append(d.qpos.copy())  # (the bodies' and points' poses at sim.time: poses_now)
 
     def point_position(self, name: str) -> np.ndarray:
         return self.sim.data.xpos[self.point_bodies[name]].copy()
@@ -207,14 +239,41 @@ MOVING = ("free", "pinned")
 """The kinds of body that move (on a free joint; on a ball joint at the pin)."""
 
 
+def moved_end_masses(net: Network) -> dict:
+    """{free point: {(line, side): kg}}: the masses of the line end nodes at each free point that
+    its body carries (``cable.ends.moved_mass``; side ``"end"`` is the line's end A, ``"start"``
+    its end B). Every line end at a free point moves but end B of a line paying out, which
+    its drum's payout weighs; such a point weighs its own mass only."""
+    out = {name: {} for name, p in net.points.items() if p.kind == "free"}
+    for ln in net.lines:
+        tether = net.line_types[ln.type].tether(ln.length, ln.segments)
+        for side, pid in (("start", ln.b), ("end", ln.a)):
+            if pid in out and not (side == "start" and ln.payout_speed > 0):
+                out[pid][(ln.name, side)] = line_ends.moved_mass(tether, side)
+    return out
+
+
+def end_inertia(net: Network, moved: dict) -> dict:
+    """{line: {side: kg}}: each moved line end's share of its point's inertia (the point's mass,
+    its lines' moved masses and its added mass, split among them as their moved masses), which
+    its end element is tuned for (``cable.ends.move_end_masses``)."""
+    out = {ln.name: {} for ln in net.lines}
+    for name, ends_at in moved.items():
+        p, total = net.points[name], sum(ends_at.values())
+        inertia = p.mass + total + p.ca * net.rho * p.volume
+        for (line, side), m in ends_at.items():
+            out[line][side] = inertia * m / total
+    return out
+
+
 def build(net: Network) -> NetworkRun:
     """The network in MuJoCo at its steady state (``statics.equilibrium``), or with every point
     where it is given (``net.start == "as_written"``)."""
     water = water_of(net)
     if net.start == "as_written":
-        positions, note = start_positions(net), "started as written, at rest"
-    else:
-        positions, note = statics.equilibrium(net, start_positions(net))
+        positions, note, poses = start_positions(net), "started as written, at rest", {}
+    else:  # (the free and pinned bodies too: their poses where their loads balance)
+        positions, note, poses = statics.equilibrium(net, start_positions(net), bodies=True)
     states = {ln.name: statics.line_ends(net, ln, positions[ln.a], positions[ln.b]) for ln in net.lines}
     dt = net.timestep if net.timestep is not None else timestep_for(net, states, water)
     spec = mujoco.MjSpec()
@@ -224,7 +283,14 @@ def build(net: Network) -> NetworkRun:
     bits = _add_seabeds(spec, net, water)
     hydro = []
     for name, b in net.bodies.items():
-        body = spec.worldbody.add_body(name=f"body/{name}", pos=list(b.position), quat=_quat(b.rpy_deg))
+        pose = poses.get(name)
+        if pose is None:
+            pos, quat = list(b.position), _quat(b.rpy_deg)
+        else:
+            quat = np.zeros(4)
+            mujoco.mju_mat2Quat(quat, np.asarray(pose.rotation, float).ravel())
+            pos, quat = list(pose.position), list(quat)
+        body = spec.worldbody.add_body(name=f"body/{name}", pos=pos, quat=quat)
         if b.kind in MOVING:
             if b.kind == "free":
                 body.add_freejoint()
@@ -237,21 +303,26 @@ def build(net: Network) -> NetworkRun:
                 added_mass=tuple(c * net.rho * b.volume for c in b.ca), height=waterline_height(b.volume, b.height))))
     for name, v in net.vehicles.items():  # (turned to its heading by its ball joint, below)
         hydro.append(build_vehicle(spec, v.spec, f"body/{name}", pos=v.position))
-    end_mass = {}
-    for ln in net.lines:  # the lumped mass of a line's end node (half an element)
-        lt = net.line_types[ln.type]
-        for end in (ln.a, ln.b):
-            end_mass[end] = max(end_mass.get(end, 0.0), 0.5 * lt.mass_per_length * ln.length / ln.segments)
+    for name in net.walkers:  # (its legs put in their standing pose, below)
+        hydro.append(walker_parts.attach(spec, net, name, water))
+    moved = moved_end_masses(net)
+    unmoved = {}  # free point -> the lumped masses of the line ends there that do not move (see moved_end_masses)
+    for ln in net.lines:
+        if ln.payout_speed > 0 and ln.b in moved:
+            unmoved.setdefault(ln.b, []).append(line_ends.lumped_end_mass(
+                net.line_types[ln.type].tether(ln.length, ln.segments), "start"))
     for name, p in net.points.items():
         if p.kind != "free":
             continue
-        mass = max(p.mass, end_mass.get(name, 0.0), 1e-3)
+        real = p.mass + sum(moved[name].values())  # (a point only at the drum end of lines paying out: as
+        mass = max(real, max(unmoved.get(name, [1e-3])))  # heavy as their end nodes, its extra weight compensated)
+        r = 0.1
         body = spec.worldbody.add_body(name=f"point/{name}", pos=list(positions[name]))
         body.add_freejoint()
-        r = 0.1
         body.explicitinertial = True  # (the mass at the point: a sphere of radius r)
         body.mass, body.ipos, body.inertia = mass, [0.0, 0.0, 0.0], [0.4 * mass * r * r] * 3
-        body.gravcomp = (mass - p.mass) / mass
+        if mass > real:
+            body.gravcomp = (mass - real) / mass
         body.add_site(name=f"point/{name}", size=[r, r, r])
         hydro.append(add_body_hydro(spec, f"point/{name}", RigidBodyHydro(
             volume=p.volume, drag_cd=(1.0, 1.0, 1.0), drag_area=(p.cd_area,) * 3,
@@ -266,8 +337,14 @@ def build(net: Network) -> NetworkRun:
             seabed_friction=net.seabed_friction, seabed_stiffness=net.seabed_stiffness or None,
             seabed_damping=net.seabed_damping, start_at=positions[ln.b], end_at=positions[ln.a],
             contact_bit=bits[net.line_types[ln.type].diameter],
-            max_length=ln.max_length if ln.payout_speed > 0 else None)
-    sim = Simulation(spec, water, tethers=list(tms.values()), bodies=hydro)
+            max_length=ln.max_length if ln.payout_speed > 0 else None,
+            end_mass_to=tuple(side for side, pid in (("start", ln.b), ("end", ln.a))
+                              if (ln.name, side) in moved.get(pid, {})))
+    sim = Simulation(spec, water, tethers=list(tms.values()), bodies=hydro, warn_EA=False)  # (line_softening warns)
+    shares = end_inertia(net, moved)
+    for ln in net.lines:
+        if tms[ln.name].end_mass_to:
+            line_ends.move_end_masses(sim.tethers[ln.name], shares[ln.name])
     vehicle_bodies, pilots = {}, {}
     for name, v in net.vehicles.items():  # (after the Simulation: the pilot flies its bound body)
         vs = v.spec
@@ -286,10 +363,46 @@ def build(net: Network) -> NetworkRun:
             bid = sim.model.body(f"point/{name}").id
             point_bodies[name] = bid
             sim.data.xfrc_applied[bid, :3] = p.force
+    if net.seabed_friction > 0:
+        preload_friction(sim, net, positions)
     sim.forward()
-    r = NetworkRun(net, sim, point_bodies, note, dt, pilots, vehicle_bodies)
+    gaits = walker_parts.start(sim, net, water)
+    r = NetworkRun(net, sim, point_bodies, note, dt, pilots, vehicle_bodies, walkers=gaits, end_inertia=shares)
     r.effective_EA = line_softening(r)
     return r
+
+
+def preload_friction(sim: Simulation, net: Network, positions: dict) -> None:
+    """Start every line's seabed friction from its steady state, as a scenario starts its tether
+    (``BoundTether.preload_friction``): the stick points of its laid nodes are placed so that
+    friction holds them as they lie, under each element's tension in the statics
+    (``steady_tension``). Without it a laid line starts with no friction mobilised, as a line
+    just laid and never pulled."""
+    for ln in net.lines:
+        bt = sim.tethers[ln.name]
+        bt.preload_friction(sim.data, steady_tension(net, ln, positions[ln.a], positions[ln.b])[::-1])
+
+
+def steady_tension(net: Network, ln, pa, pb) -> np.ndarray:
+    """The tension (N) of each element of line ``ln``, from end A to end B, in its steady state
+    with its ends at ``pa`` and ``pb`` (m, world; ``statics.line_ends``): the elastic catenary's
+    with seabed friction at each element's middle, where the catenary gave its shape, else EA
+    times the strain of its chord. (Not the chords' strain of a catenary: a chord is shorter than
+    its arc, by 1e-5 on a 5 m element of a chain with w / H = 3e-3 1/m, which a stiff chain's
+    strain of 5e-4 feels as a tension 2 % short.)"""
+    lt, state = net.line_types[ln.type], statics.line_ends(net, ln, pa, pb)
+    x, rest = state.nodes, ln.length / ln.segments
+    T = lt.EA * np.maximum(np.linalg.norm(np.diff(x, axis=0), axis=1) / rest - 1.0, 0.0)
+    if state.catenary:  # (as line_ends found it: from the low end up)
+        pa, pb = np.asarray(pa, float), np.asarray(pb, float)
+        lo, hi = (pa, pb) if pa[2] <= pb[2] else (pb, pa)
+        on_bottom = lo[2] <= net.seabed_height(lo[0], lo[1]) + 1e-3 * ln.length
+        c = statics._catenary(lo, hi, ln.length, lt.wet_weight(net.rho, net.gravity), lt.EA, net.seabed_friction,
+                              on_bottom)
+        if c is not None:
+            T = c.tension((np.arange(ln.segments) + 0.5) * rest)
+            T = T if pa[2] <= pb[2] else T[::-1]
+    return T
 
 
 def _add_seabeds(spec: mujoco.MjSpec, net: Network, water: wm.WaterColumn) -> dict:
@@ -318,6 +431,8 @@ def _support(net: Network, positions: dict, pid: str):
     if p.kind == "free":
         return builder.SitePoint(f"point/{pid}")
     if p.kind == "body":
+        if p.body in net.walkers:
+            return walker_parts.support(p.body, p.position)
         return builder.BodyPoint(f"body/{p.body}", p.position)
     return builder.FixedPoint(positions[pid])
 
@@ -358,7 +473,8 @@ def columns(net: Network) -> list[str]:
     """The time series' columns: per line, the tension (N) and its horizontal and vertical parts
     at ends A and B and its stretched length (m); per free point and free or pinned body, its
     position (m);
-    per vehicle, its position (m) and heading (deg); per line paying out, its deployed length (m)."""
+    per vehicle, its position (m) and heading (deg); per walker, its torso's position (m) and
+    heading (deg: ``walkers.columns``); per line paying out, its deployed length (m)."""
     cols = ["time_s"]
     for ln in net.lines:
         for end in ("A", "B"):
@@ -373,6 +489,7 @@ def columns(net: Network) -> list[str]:
             cols += [f"body{name}_{k}_m" for k in "xyz"]
     for name in net.vehicles:
         cols += [f"vehicle{name}_{k}_m" for k in "xyz"] + [f"vehicle{name}_heading_deg"]
+    cols += walker_parts.columns(net)
     cols += [f"line{ln.name}_deployed_m" for ln in net.lines if ln.payout_speed > 0]
     return cols
 
@@ -395,13 +512,18 @@ def sample(r: NetworkRun) -> list[float]:
     for name, body in r.vehicle_bodies.items():
         R = now.xmat[body.id].reshape(3, 3)
         row += list(now.xpos[body.id]) + [math.degrees(math.atan2(R[1, 0], R[0, 0]))]
+    row += walker_parts.sample(r.net, r.sim.model, now)
     row += [r.deployed_length(ln.name) for ln in r.net.lines if ln.payout_speed > 0]
     return row
 
 
-def simulate(net: Network, progress=None) -> tuple[NetworkRun, np.ndarray]:
+def simulate(net: Network, progress=None, video=None) -> tuple[NetworkRun, np.ndarray]:
     """Run ``net`` for its duration; returns the run (at its final state; ``r.sim.close()`` when
-    done) and the time series (rows of ``columns``, one per output interval). Raises
+    done) and the time series (rows of ``columns``, one per output interval). ``video(r)``, where
+    given, makes a recorder (``due(t)``, ``capture()``, ``finish()``, ``abort()``: as
+    ``mjtether.io.render.VideoRecorder``) that takes a frame at the first step on or after each
+    frame's time, is finished with the run and aborted if it fails (``r.video`` says what it
+    wrote). Raises
     SimulationDiverged. Where mjtether chose the step (no ``simulation.timestep``) and the run
     diverges, it runs again from its start at half the step, up to ``RETRIES`` times, and its
     note says so: the step limits hold near the steady state, and a start far from it (a line
@@ -411,7 +533,7 @@ def simulate(net: Network, progress=None) -> tuple[NetworkRun, np.ndarray]:
     while True:
         r = build(net)
         try:
-            table = _run(r, progress)
+            table = _run(r, progress, video)
         except SimulationDiverged as exc:
             if net.timestep is not None or halved == RETRIES:
                 raise
@@ -424,13 +546,34 @@ def simulate(net: Network, progress=None) -> tuple[NetworkRun, np.ndarray]:
         return r, table
 
 
+def first_forces(r: NetworkRun) -> None:
+    """The constraint forces at the start (the first sample's line forces) as the first step
+    finds them: ``mj_forward`` with the slack elements switched as a step switches them (an
+    element whose equality pushed goes slack, and the forces are found again, up to
+    ``simulation.SLACK_REDOS`` times), not with the elements that started taut but push, whose
+    forces the first step throws away. (These are the model's forces at its start: where the
+    start is not the model's own equilibrium, a line left unsettled whose nodes are the
+    continuous catenary's, the first rows show the swing that follows.)"""
+    from mjtether.simulation import SLACK_REDOS
+    r.sim.forward()
+    for _ in range(SLACK_REDOS):
+        changed = False
+        for bt in r.sim.tethers.values():
+            changed |= bt.update_slack()
+        if not changed:
+            break
+        r.sim.forward()
+
+
 RETRIES = 3
 """Times a network run at mjtether's own step is run again at half the step after it diverges."""
 
 
-def _run(r: NetworkRun, progress=None) -> np.ndarray:
-    """``simulate``'s run of the built ``r``: its rows; ``r.sim`` closed if it fails."""
+def _run(r: NetworkRun, progress=None, video=None) -> np.ndarray:
+    """``simulate``'s run of the built ``r``: its rows; ``r.sim`` closed (and the video aborted)
+    if it fails."""
     net = r.net
+    rec = None
     try:
         if net.settle > 0 and net.start == "steady":
             settle(r, net.settle)
@@ -438,12 +581,23 @@ def _run(r: NetworkRun, progress=None) -> np.ndarray:
         total = max(1, round(net.duration / r.timestep))
         for bt in r.sim.tethers.values():  # (the settling's pushes are not the run's)
             bt.clear_peak_compression()
+        first_forces(r)
         rows = [sample(r)]
         r.record()
+        if video is not None:
+            rec = video(r)
+            if rec.due(r.sim.time):
+                rec.capture()
         done = 0
         while done < total:
             k = min(every, total - done)
-            r.advance(k)
+            if rec is None:
+                r.advance(k)
+            else:
+                for _ in range(k):
+                    r.advance(1)
+                    if rec.due(r.sim.time):
+                        rec.capture()
             done += k
             rows.append(sample(r))
             r.record()
@@ -452,7 +606,13 @@ def _run(r: NetworkRun, progress=None) -> np.ndarray:
         table = np.array(rows)
         if not np.all(np.isfinite(table)):
             raise SimulationDiverged("a line force or point position became non-finite")
+        if rec is not None:
+            path = rec.finish()
+            r.video = {"file": Path(path).name, "frames": rec.frames, "fps": rec.s.fps, "camera": rec.s.camera,
+                       "tension_scale_N": rec.scale}
     except BaseException:
+        if rec is not None:
+            rec.abort()
         r.sim.close()
         raise
     return table
@@ -480,6 +640,8 @@ def write(r: NetworkRun, rows: np.ndarray, folder, *, source=None, wall_time: fl
         arrays[f"line{ln.name}"] = r.line_nodes(ln.name)
         for what, values in r.history.get(ln.name, {}).items():
             arrays[f"line{ln.name}_{what}"] = np.array(values)
+    if r.states:  # (the bodies' and points' poses: a replay sets them; see ``NetworkRun.record``)
+        arrays["qpos"] = np.array(r.states)
     np.savez_compressed(folder / "lines.npz", **arrays)
     final = dict(zip(cols, rows[-1]))
     summary = {
@@ -497,7 +659,10 @@ def write(r: NetworkRun, rows: np.ndarray, folder, *, source=None, wall_time: fl
                                                              for e in "AB"]].max()),
                             "effective_EA": r.effective_EA.get(ln.name)}
                   for ln in net.lines},
+        "network": to_dict(net),
     }
+    if r.video is not None:
+        summary["video"] = r.video
     if plots:
         from . import plots as network_plots
         summary["plots"] = network_plots.write(folder, r, rows, cols)
@@ -505,17 +670,19 @@ def write(r: NetworkRun, rows: np.ndarray, folder, *, source=None, wall_time: fl
 
 
 def run_to(net: Network, out, *, overwrite: bool = False, source=None, progress=None,
-           plots: bool = True) -> tuple[NetworkRun, np.ndarray]:
+           plots: bool = True, video=None) -> tuple[NetworkRun, np.ndarray]:
     """Simulate ``net`` and write its results folder ``out`` whole or not at all; returns the run
-    (its simulation closed) and the time series."""
-    from mjtether.io.outdir import Staging, check_target
+    (its simulation closed) and the time series. ``video(r, folder)``, where given, makes the
+    recorder of ``simulate`` writing into the results folder ``folder`` (staged with the rest)."""
+    from mjtether.files.outdir import Staging, check_target
     target = check_target(out, overwrite=overwrite, protect=[source] if source else ())
     t0 = time.perf_counter()
-    r, rows = simulate(net, progress=progress)
-    try:
-        with Staging(target, overwrite=overwrite) as stage:
+    with Staging(target, overwrite=overwrite) as stage:
+        r, rows = simulate(net, progress=progress,
+                           video=None if video is None else (lambda run_: video(run_, stage.path)))
+        try:
             write(r, rows, stage.path, source=source, wall_time=time.perf_counter() - t0, plots=plots)
             stage.commit()
-    finally:
-        r.sim.close()
+        finally:
+            r.sim.close()
     return r, rows
