@@ -1,4 +1,5 @@
-"""Headless rendering of a scenario run to MP4 (H.264) or GIF, with the tether coloured by tension.
+"""Headless rendering of a scenario run (or, through ``network_view``, a network of lines) to MP4
+(H.264) or GIF, with the lines coloured by tension.
 
 No display is needed: the OpenGL context is EGL (Mesa's EGL also runs on a CPU-only machine),
 or OSMesa if EGL is missing; ``MUJOCO_GL`` picks one explicitly. Each frame shows the model as
@@ -12,8 +13,11 @@ built (seabed, ship, walker), and, drawn into the scene for the frame only:
   vehicle; a warning, top right, when the tangle monitor's thresholds are crossed) and a colour bar;
 * the caller's ``FrameRenderer.markers`` (``Marker``: e.g. a goal), geoms of the scene only.
 
-The renderer only reads the simulation (``mjv_updateScene`` and the tether's constraint forces),
-so a run gives the same time series with and without video (``tests/io/test_render.py``).
+What is drawn comes from a ``FrameView``: ``ScenarioView`` reads a ``runner.ScenarioRun`` (or the
+replay's stand-in for one); ``network_view.NetworkView`` reads a ``network.run.NetworkRun``. The
+renderer only reads the simulation (``mjv_updateScene`` and the lines' constraint forces), so a
+run gives the same time series with and without video (``tests/io/test_render.py``,
+``tests/io/test_network_render.py``).
 Frames are taken at t = k / fps, k = 0 .. round(duration fps) - 1, at the first step on or after
 each. Units SI; frames world, z up.
 """
@@ -203,8 +207,138 @@ class Marker:
     gtype: int = mujoco.mjtGeom.mjGEOM_CYLINDER
 
 
+class FrameView:
+    """What ``FrameRenderer`` draws, read from a run: a subclass gives the model and its data
+    (``model``, ``data``: the state drawn), the water column (``water``), the run's ``duration``
+    (s), the ``lines`` as (nodes (n+1, 3) m world, element tensions (n,) N, radius m), the points
+    the camera frames, what ``track`` follows, the overlay's text and the default top of the
+    colour scale (N). ``what`` names the lines in the colour scale's legend."""
+
+    what = "line"
+    colour_bar = True
+
+    @property
+    def model(self) -> mujoco.MjModel:
+        raise NotImplementedError
+
+    @property
+    def data(self) -> mujoco.MjData:
+        raise NotImplementedError
+
+    @property
+    def duration(self) -> float:
+        raise NotImplementedError
+
+    def lines(self) -> list:
+        """[(nodes (n+1, 3) m world, element tensions (n,) N, capsule radius m)], one per line."""
+        raise NotImplementedError
+
+    def framed(self, nodes: np.ndarray) -> np.ndarray:
+        """Points (m, world) the side and top cameras frame, given the lines' ``nodes``."""
+        return nodes
+
+    def track(self):
+        """(point looked at (m, world), distance m) of the ``track`` camera; None: the whole of
+        ``framed``, seen from the same angle."""
+        return None
+
+    def walker_refusal(self) -> str | None:
+        """Why the ``walker`` camera cannot be used, or None."""
+        return "video.camera 'walker' needs a walker scenario (robot.type = 'walker')"
+
+    def node_count(self) -> int:
+        """Room to keep in the scene for the lines' capsules."""
+        raise NotImplementedError
+
+    def default_scale(self) -> float:
+        raise NotImplementedError
+
+    def overlay(self) -> list:
+        """[(``mjtGridPos``, left text, right text)], drawn in order."""
+        raise NotImplementedError
+
+    def colours(self, lines: list, scale: float) -> list:
+        """RGBA (n, 4) of each line's elements on the scale [0, ``scale``] N (``tension_colours``)."""
+        return [tension_colours(t, scale) for _, t, _ in lines]
+
+
+class ScenarioView(FrameView):
+    """A ``runner.ScenarioRun`` (or ``replay.Replay``) as ``FrameRenderer`` draws it: its tether,
+    its robot followed by ``track``, the scenario's overlay (time, tow and ship-end tensions,
+    deployed length, the cable's clearance from a vehicle, a tangle warning; a vehicle alone:
+    its speed, depth and heading, no colour bar)."""
+
+    what = "tether"
+
+    def __init__(self, runner):
+        if not hasattr(runner, "named") and hasattr(runner, "net"):
+            raise TypeError("a network run is drawn through mjtether.io.network_view (NetworkView, network_video)")
+        self.runner = runner
+        self.water = runner.water
+        self.colour_bar = bool(runner.tethered)
+
+    model = property(lambda self: self.runner.sim.model)
+    data = property(lambda self: self.runner.sim.data)
+    duration = property(lambda self: self.runner.sc.simulation.duration)
+
+    def lines(self) -> list:
+        n = self.runner.named
+        return [(n.tether_nodes, n.tether_tension, self.runner.contact_diameter / 2)]
+
+    def framed(self, nodes: np.ndarray) -> np.ndarray:
+        r = self.runner
+        return nodes if r.tethered else np.vstack([nodes, r.named.robot_position])
+
+    def track(self):
+        return self.runner.named.robot_position, 9.0
+
+    def walker_refusal(self) -> str | None:
+        return None if self.runner.walker else super().walker_refusal()
+
+    def node_count(self) -> int:
+        return len(self.runner.named.tether_nodes)
+
+    def default_scale(self) -> float:
+        rated = self.runner.sc.tether.rated_load
+        if math.isfinite(rated):
+            return float(rated)
+        t = self.runner.named.tether_tension
+        return nice_scale(2.0 * max(float(t.max(initial=0.0)), 1.0))
+
+    def overlay(self) -> list:
+        n, top_left, top_right = self.runner.named, mujoco.mjtGridPos.mjGRID_TOPLEFT, mujoco.mjtGridPos.mjGRID_TOPRIGHT
+        if not self.runner.tethered:  # a vehicle alone: its speed, depth and heading, no colour bar
+            left = "time\nspeed\ndepth\nheading"
+            right = (f"{n.time:7.2f} s\n{n.robot_speed:7.2f} m/s\n{-n.robot_position[2]:7.1f} m\n"
+                     f"{math.degrees(n.robot_heading):7.0f} deg")
+            return [(top_left, left, right)]
+        left = "time\ntow tension\nship tension\ndeployed"
+        right = f"{n.time:7.2f} s\n{n.tow_tension:7.0f} N\n{n.ship_tension:7.0f} N\n{n.deployed_length:7.1f} m"
+        t = n.tangle() if n.hulls or self.runner.sc.tangle.self_clearance_m > 0 else None
+        if t is not None and n.hulls:
+            left += "\ncable clearance"
+            right += f"\n{t['clearance']:7.2f} m" if math.isfinite(t["clearance"]) else "\n      -"
+        out = [(top_left, left, right)]
+        if t is not None:  # the tangle monitor's thresholds (scenario [tangle]) crossed: say so, top right
+            cfg, warn = self.runner.sc.tangle, []
+            if cfg.clearance_m > 0 and t["clearance"] < cfg.clearance_m:
+                warn.append(f"cable within {t['clearance']:.2f} m of the vehicle" if t["clearance"] >= 0.0 else
+                            f"cable through the vehicle ({t['clearance']:.2f} m)")
+            if cfg.self_clearance_m > 0 and (t["self_clearance"] < cfg.self_clearance_m or t["plan_crossings"]):
+                warn.append(f"cable within {t['self_clearance']:.2f} m of itself")
+            if warn:
+                out.append((top_right, "TANGLE RISK", "\n".join(warn)))
+        return out
+
+
+def view_of(runner) -> FrameView:
+    """``runner`` itself if it is a ``FrameView``, else a ``ScenarioView`` of it."""
+    return runner if isinstance(runner, FrameView) else ScenarioView(runner)
+
+
 class FrameRenderer:
-    """Draws the current state of a ``runner.ScenarioRun`` offscreen (see the module docstring);
+    """Draws the current state of a run offscreen (see the module docstring): a
+    ``runner.ScenarioRun``, or any ``FrameView`` (``network_view.NetworkView``: a network of lines);
     ``render()`` returns an RGB array. ``close()`` frees the OpenGL context.
 
     ``fixed_camera``: a camera of the model (its id, or its name such as ``"walker/front"``) to
@@ -214,9 +348,11 @@ class FrameRenderer:
     def __init__(self, runner, settings: VideoSettings | None = None, fixed_camera: int | str | None = None):
         self.s = s = settings or VideoSettings()
         self.runner = runner
-        m = runner.sim.model
-        if s.camera == "walker" and not runner.walker and fixed_camera is None:
-            raise ValueError("video.camera 'walker' needs a walker scenario (robot.type = 'walker')")
+        self.view = view = view_of(runner)
+        m = view.model
+        refusal = view.walker_refusal() if s.camera == "walker" and fixed_camera is None else None
+        if refusal:
+            raise ValueError(refusal)
         self.fixed_camera = None if fixed_camera is None else model_camera_id(m, fixed_camera)
         self.markers: list[Marker] = []
         # visual settings (model.vis is not used by the physics)
@@ -232,8 +368,8 @@ class FrameRenderer:
         self.ctx = mujoco.MjrContext(m, mujoco.mjtFontScale.mjFONTSCALE_100)
         mujoco.mjr_setBuffer(mujoco.mjtFramebuffer.mjFB_OFFSCREEN, self.ctx)
         # room for what mjv_updateScene draws (geoms, sites, tendons) and what is added here:
-        # a scene that is full drops the rest of the tether, the arrows and the markers
-        room = m.ngeom + m.nsite + m.ntendon + len(runner.named.tether_nodes) + s.current_arrows + 100
+        # a scene that is full drops the rest of the lines, the arrows and the markers
+        room = m.ngeom + m.nsite + m.ntendon + view.node_count() + s.current_arrows + 100
         self.scene = mujoco.MjvScene(m, maxgeom=room)
         if s.tuned:
             for f in (mujoco.mjtRndFlag.mjRND_SHADOW, mujoco.mjtRndFlag.mjRND_REFLECTION,
@@ -244,45 +380,40 @@ class FrameRenderer:
         self.opt = mujoco.MjvOption()
         for f in (mujoco.mjtVisFlag.mjVIS_FLEXVERT, mujoco.mjtVisFlag.mjVIS_FLEXEDGE,
                   mujoco.mjtVisFlag.mjVIS_FLEXFACE, mujoco.mjtVisFlag.mjVIS_FLEXSKIN):
-            self.opt.flags[f] = 0  # the tether is drawn here, coloured
+            self.opt.flags[f] = 0  # the lines are drawn here, coloured
         self.cam = mujoco.MjvCamera()
         self.viewport = mujoco.MjrRect(0, 0, s.width, s.height)
         self._rgb = np.zeros((s.height, s.width, 3), dtype=np.uint8)
         self._depth = None  # (height, width) float32, for render_depth
         self._background = (np.array(WATER_RGB) * 255).astype(np.uint8)
-        self.scale = s.tension_scale or self._default_scale()
-        self.legend = f"tether tension colour scale: 0 N (blue) to {self.scale:g} N (red), turbo"
+        self.scale = s.tension_scale or view.default_scale()
+        self.legend = f"{view.what} tension colour scale: 0 N (blue) to {self.scale:g} N (red), turbo"
         self._closed = False
 
     # ------------------------------------------------------------- frame content
 
-    def _default_scale(self) -> float:
-        rated = self.runner.sc.tether.rated_load
-        if math.isfinite(rated):
-            return float(rated)
-        t = self.runner.named.tether_tension
-        return nice_scale(2.0 * max(float(t.max(initial=0.0)), 1.0))
-
     def _extent(self, x: np.ndarray):
-        """Centre and size (m) of the box around the tether, ship and robot."""
+        """Centre and size (m) of the box around the points ``x``."""
         lo, hi = x.min(0), x.max(0)
         return 0.5 * (lo + hi), float(np.linalg.norm(hi - lo))
 
     def _place_camera(self, x: np.ndarray) -> float:
-        """Set the camera; returns the typical viewing distance (m) for line widths."""
-        c, m, r = self.cam, self.runner.sim.model, self.runner
+        """Set the camera to frame the points ``x``; returns the typical viewing distance (m)
+        for line widths."""
+        c, m = self.cam, self.view.model
         fov = math.radians(m.vis.global_.fovy)
         if self.fixed_camera is not None or self.s.camera == "walker":
             c.type = mujoco.mjtCamera.mjCAMERA_FIXED
             c.fixedcamid = m.camera("walker/track").id if self.fixed_camera is None else self.fixed_camera
             return 8.0
         c.type = mujoco.mjtCamera.mjCAMERA_FREE
-        if self.s.camera == "track":
-            tow = r.named.robot_position
-            c.lookat[:] = tow
-            c.distance, c.azimuth, c.elevation = 9.0, 135.0, -20.0
-            return c.distance
         centre, size = self._extent(x)
+        if self.s.camera == "track":
+            followed = self.view.track()
+            c.lookat[:], c.distance = followed if followed is not None else \
+                (centre, 0.6 * size / math.tan(fov / 2) + 1.0)
+            c.azimuth, c.elevation = 135.0, -20.0
+            return c.distance
         c.lookat[:] = centre
         if self.s.camera == "side":
             c.distance = 0.6 * size / math.tan(fov / 2) + 1.0
@@ -303,8 +434,8 @@ class FrameRenderer:
         sc.ngeom += 1
         return g
 
-    def _add_tether(self, x: np.ndarray, tension: np.ndarray, width: float) -> None:
-        for i, rgba in enumerate(tension_colours(tension, self.scale)):
+    def _add_line(self, x: np.ndarray, colours: np.ndarray, width: float) -> None:
+        for i, rgba in enumerate(colours):
             g = self._add_geom(mujoco.mjtGeom.mjGEOM_CAPSULE, rgba)
             if g is not None:
                 mujoco.mjv_connector(g, mujoco.mjtGeom.mjGEOM_CAPSULE, width, x[i], x[i + 1])
@@ -317,7 +448,7 @@ class FrameRenderer:
         if g is not None:
             g.size[:] = [half, half, 0.01]
             g.pos[:] = [centre[0], centre[1], 0.0]
-        water = self.runner.water
+        water = self.view.water
         n = self.s.current_arrows
         if n == 0:
             return
@@ -343,32 +474,10 @@ class FrameRenderer:
                 g.size[:] = mk.size
 
     def _overlay(self) -> None:
-        n = self.runner.named
-        if not self.runner.tethered:  # a vehicle alone: its speed, depth and heading, no colour bar
-            left = "time\nspeed\ndepth\nheading"
-            right = (f"{n.time:7.2f} s\n{n.robot_speed:7.2f} m/s\n{-n.robot_position[2]:7.1f} m\n"
-                     f"{math.degrees(n.robot_heading):7.0f} deg")
-            mujoco.mjr_overlay(mujoco.mjtFont.mjFONT_NORMAL, mujoco.mjtGridPos.mjGRID_TOPLEFT, self.viewport,
-                               left, right, self.ctx)
+        for where, left, right in self.view.overlay():
+            mujoco.mjr_overlay(mujoco.mjtFont.mjFONT_NORMAL, where, self.viewport, left, right, self.ctx)
+        if not self.view.colour_bar:
             return
-        left = "time\ntow tension\nship tension\ndeployed"
-        right = f"{n.time:7.2f} s\n{n.tow_tension:7.0f} N\n{n.ship_tension:7.0f} N\n{n.deployed_length:7.1f} m"
-        t = n.tangle() if n.hulls or self.runner.sc.tangle.self_clearance_m > 0 else None
-        if t is not None and n.hulls:
-            left += "\ncable clearance"
-            right += f"\n{t['clearance']:7.2f} m" if math.isfinite(t["clearance"]) else "\n      -"
-        mujoco.mjr_overlay(mujoco.mjtFont.mjFONT_NORMAL, mujoco.mjtGridPos.mjGRID_TOPLEFT, self.viewport,
-                           left, right, self.ctx)
-        if t is not None:  # the tangle monitor's thresholds (scenario [tangle]) crossed: say so, top right
-            cfg, warn = self.runner.sc.tangle, []
-            if cfg.clearance_m > 0 and t["clearance"] < cfg.clearance_m:
-                warn.append(f"cable within {t['clearance']:.2f} m of the vehicle" if t["clearance"] >= 0.0 else
-                            f"cable through the vehicle ({t['clearance']:.2f} m)")
-            if cfg.self_clearance_m > 0 and (t["self_clearance"] < cfg.self_clearance_m or t["plan_crossings"]):
-                warn.append(f"cable within {t['self_clearance']:.2f} m of itself")
-            if warn:
-                mujoco.mjr_overlay(mujoco.mjtFont.mjFONT_NORMAL, mujoco.mjtGridPos.mjGRID_TOPRIGHT, self.viewport,
-                                   "TANGLE RISK", "\n".join(warn), self.ctx)
         # colour bar, bottom left: 10 steps from 0 to the scale
         w, h = self.s.width, self.s.height
         bar_w, bar_h = max(w // 40, 4), max(h // 30, 3)
@@ -381,13 +490,14 @@ class FrameRenderer:
     def _draw(self, decorations: bool = True) -> None:
         """Draw the simulation's current state into the offscreen buffer; ``decorations``: the
         water surface, current arrows and markers too (not physical objects)."""
-        r = self.runner
-        m, d = r.sim.model, r.sim.data
-        x = r.named.tether_nodes
-        view = self._place_camera(x if r.tethered else np.vstack([x, r.named.robot_position]))
+        v = self.view
+        m, d = v.model, v.data
+        lines = v.lines()
+        x = np.vstack([nodes for nodes, _, _ in lines]) if lines else v.framed(np.zeros((0, 3)))
+        view = self._place_camera(v.framed(x))
         mujoco.mjv_updateScene(m, d, self.opt, None, self.cam, mujoco.mjtCatBit.mjCAT_ALL, self.scene)
-        width = max(r.contact_diameter / 2, 0.0025 * view)
-        self._add_tether(x, r.named.tether_tension, width)
+        for (nodes, _, radius), colours in zip(lines, v.colours(lines, self.scale)):
+            self._add_line(nodes, colours, max(radius, 0.0025 * view))
         if decorations:
             self._add_water_and_current(x, view)
             self._add_markers()
@@ -402,9 +512,9 @@ class FrameRenderer:
         camera to the first surface at each pixel, along the camera's viewing axis (a plane
         facing the camera reads the same everywhere), as MuJoCo's ``Renderer`` gives it; the far
         clipping distance where nothing is drawn. Physical objects only (the model's geoms and
-        the tether), no water surface, current arrows, markers or overlay."""
+        the lines), no water surface, current arrows, markers or overlay."""
         self._draw(decorations=False)
-        m = self.runner.sim.model
+        m = self.view.model
         if self._depth is None:
             self._depth = np.zeros((self.s.height, self.s.width), dtype=np.float32)
         mujoco.mjr_readPixels(None, self._depth, self.viewport, self.ctx)
@@ -431,7 +541,9 @@ class FrameRenderer:
 
 
 class VideoRecorder:
-    """Renders frames of a ``runner.ScenarioRun`` into a video file (``FrameRenderer`` draws).
+    """Renders frames of a ``runner.ScenarioRun`` (or any ``FrameView``) into a video file
+    (``FrameRenderer`` draws) for ``duration`` s, by default the run's (the scenario's
+    ``simulation.duration``, a network's ``duration``).
 
     The file is written under a temporary name beside ``path`` and renamed on ``finish()``;
     ``abort()`` (or an exception inside ``with``) deletes it, so a failed run leaves no video.
@@ -443,11 +555,12 @@ class VideoRecorder:
         self.s = s = settings or VideoSettings()
         self.path = check_output_path(path)
         self.path.parent.mkdir(parents=True, exist_ok=True)
-        dur = runner.sc.simulation.duration if duration is None else duration
-        self.times = frame_times(dur, s.fps)
+        view = view_of(runner)
+        self.times = frame_times(view.duration if duration is None else duration, s.fps)
         self.n_frames = len(self.times)
         self.frames = 0
-        self.frame = FrameRenderer(runner, s)
+        self.frame = FrameRenderer(view, s)
+        self.frame.runner = runner
         self.scale = self.frame.scale
         self._tmp = self.path.with_name(f".{self.path.stem}.partial{self.path.suffix}")
         try:

@@ -4,20 +4,21 @@ Files (all SI units; ``docs/scenarios.md`` lists the CSV columns):
 
 * ``timeseries.csv``: one row per output sample, columns ``runner.RECORD_FIELDS`` named
   ``<name>_<unit>`` (without the tether's, ``readouts.TETHER_FIELDS``, for a vehicle run
-  without one, ``tether.attached = false``: then there is no ``tether.npz``, ``tension.png``
+  without one, ``tether.attached = false``: then ``lines.npz`` has no line, and there is no ``tension.png``
   nor ``profile.png`` either; without the tangle monitor's about a vehicle,
   ``readouts.VEHICLE_FIELDS``, for a run without a vehicle);
-* ``tether.npz``: ``time`` (n,) s; ``nodes`` (n, e+1, 3), node positions in m; ``tension``
-  (n, e), element tensions in N (never negative: elements carry tension only; 0 when slack);
-  ``element_length`` (n, e), stretched element lengths in m; ``compression`` (n, e), the largest
-  push of each element's constraint since the previous sample, over every time step, in N (>= 0:
-  a cable cannot push, so any is the model's error, kept out of ``tension`` and shown here and in
-  ``max_compression``). The e elements allocated are
-  numbered from the drum's core to the robot end, so element j is the same piece of cable all
-  run; those still on the drum have length and tension 0, their nodes sit at the fairlead; and
-  the MuJoCo state that places every body (ship, robot, nodes) at each sample, ``qpos`` (n, nq),
-  ``mocap_pos`` (n, nmocap, 3) m and ``mocap_quat`` (n, nmocap, 4), which ``mjtether render DIR``
-  sets again to replay the run (``mjtether.io.replay``);
+* ``lines.npz`` (``io.lines_npz``, the layout every run writes, a network's too): the line
+  ``tether`` from end A (the robot) to end B (the ship's drum): ``linetether_nodes`` (n, e+1, 3)
+  m, ``linetether_tension`` (n, e) N (never negative: elements carry tension only; 0 when slack),
+  ``linetether_element_length`` (n, e) m, ``linetether_compression`` (n, e) N (the largest push of
+  each element's constraint since the previous sample, over every time step, >= 0: a cable cannot
+  push, so any is the model's error, kept out of the tension and shown here and in
+  ``max_compression``), ``linetether`` (its deployed nodes at the end); all e elements allocated,
+  so element j is the same piece of cable all run, those still on the drum with length and
+  tension 0 and their nodes at the fairlead; and the MuJoCo state that places every body (ship,
+  robot, nodes) at each sample, ``qpos`` (n, nq), ``mocap_pos`` (n, nmocap, 3) m and
+  ``mocap_quat`` (n, nmocap, 4), which ``mjtether render DIR`` sets again to replay the run
+  (``mjtether.io.replay``; a run without a tether saves these only);
 * ``summary.json``: the scenario as read (defaults filled in), final and peak tensions, wall time,
   real-time factor, how the run was started;
 * ``tension.png`` (tensions at the ship end and the tow point, deployed length), ``profile.png``
@@ -44,11 +45,12 @@ from pathlib import Path
 import numpy as np
 
 from mjtether.cable.builder import seabed_height
+from mjtether.files.outdir import Staging, check_target
 from mjtether.physics.water import WaterColumn
 from mjtether.scenario.readouts import TETHER_FIELDS, VEHICLE_FIELDS
-from mjtether.scenario.runner import RECORD_FIELDS, STATE_FIELDS
+from mjtether.scenario.runner import RECORD_FIELDS
 
-from .outdir import Staging, check_target
+from . import lines_npz
 
 
 def written(tethered: bool = True, vehicle: bool = True) -> list[int]:
@@ -92,10 +94,18 @@ def summary(sc, rows: np.ndarray, info: dict, scenario_path) -> dict:
                  "tow_tension_N": float(rows[:, col["tow_tension"]].max())},
         "run": _jsonable(info),
     }
+    out = {"kind": "scenario", **out}
     if not info.get("tethered", True):  # no tether: no tensions to report
         out["final"] = {"time_s": out["final"]["time_s"]}
         del out["peak"]
-    else:  # the tangle monitor's worst moments, and its events
+        out["lines"] = {}
+    else:  # (the single tether as a network's line: end A at the robot, B at the ship)
+        out["lines"] = {lines_npz.TETHER: {
+            "A": "robot", "B": "ship", "length_m": float(sc.tether.length), "segments": int(sc.tether.segments),
+            "final_A_tension_N": out["final"]["tow_tension_N"], "final_B_tension_N": out["final"]["ship_tension_N"],
+            "peak_tension_N": max(out["peak"]["tow_tension_N"], out["peak"]["ship_tension_N"]),
+            "effective_EA": _jsonable(info.get("effective_EA"))}}
+        # the tangle monitor's worst moments, and its events
         t = rows[:, col["time"]]
         tg = {}
         keys = [("cable_self_clearance", "min_cable_self_clearance", "_m", np.argmin),
@@ -132,11 +142,7 @@ def write(out, sc: dict, rows: np.ndarray, history: dict, info: dict, scenario_p
             w.writerow(column_names(tethered, vehicle))
             for r in rows:
                 w.writerow([f"{v:.9g}" for v in r[keep]])
-        if tethered:
-            state = {k: history[k] for k in STATE_FIELDS if k in history}  # (what ``mjtether render DIR`` sets)
-            np.savez_compressed(tmp / "tether.npz", time=rows[:, 0], nodes=nodes, tension=history["tension"],
-                                element_length=history["element_length"], compression=history["compression"],
-                                **state)
+        np.savez_compressed(tmp / lines_npz.FILE, **lines_npz.tether_arrays(rows[:, 0], history, tethered))
         (tmp / "summary.json").write_text(json.dumps(summary(sc, rows, info, scenario_path), indent=2))
         if plots:
             _plots(tmp, rows, nodes, sc, tethered)

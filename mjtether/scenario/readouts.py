@@ -66,7 +66,7 @@ RECORD_FIELDS = [
      "hull lengths (or two elements) of it (360: one full turn); only in runs with a vehicle"),
     ("max_compression", "N", "the largest push of any element's constraint since the previous sample, over every "
      "time step (>= 0): a cable carries tension only, so a push is the model's error, which the tension columns "
-     "(never negative) leave out; tether.npz's compression has every element's"),
+     "(never negative) leave out; lines.npz's linetether_compression has every element's"),
 ]
 
 

@@ -1,5 +1,5 @@
 """Compression is measured, never hidden: an element's constraint that pushes (resists the
-element's shortening) is reported as ``compression`` (``tether.npz``) and ``max_compression``
+element's shortening) is reported as ``compression`` (``lines.npz``'s ``linetether_compression``) and ``max_compression``
 (``timeseries.csv``), against MuJoCo's own constraint forces (``efc_force`` of the element
 equalities ``tether/element<j>``, read here without mjtether's readouts); tension stays the pull
 alone, never negative."""
@@ -206,14 +206,14 @@ def test_in_a_current_the_top_holds_the_suspended_weight_less_the_drag():
 
 def test_the_outputs_carry_the_pushes(tmp_path):
     """``max_compression_N`` in timeseries.csv is the largest of the elements' ``compression``
-    in tether.npz at each sample (both the largest push since the previous sample: an element
+    in lines.npz at each sample (both the largest push since the previous sample: an element
     may push between samples and pull at one, so the two are not exclusive)."""
     (tmp_path / "pay.toml").write_text(PAYOUT)
     out = tmp_path / "res"
     assert cli.main(["run", str(tmp_path / "pay.toml"), "--out", str(out), "--no-plots"]) == 0
     rows = np.genfromtxt(out / "timeseries.csv", delimiter=",", names=True)
-    with np.load(out / "tether.npz") as z:
-        comp, ten = z["compression"], z["tension"]
+    with np.load(out / "lines.npz") as z:
+        comp, ten = z["linetether_compression"], z["linetether_tension"]
     assert comp.shape == ten.shape and np.all(comp >= 0.0)
     assert np.allclose(rows["max_compression_N"], comp.max(axis=1), rtol=1e-8, atol=1e-9)
-    assert Path(out / "tether.npz").exists() and comp.max() > 0.0
+    assert comp.max() > 0.0

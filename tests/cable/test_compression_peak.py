@@ -1,5 +1,5 @@
 """The recorded pushes are the largest since the previous sample, not the push at the sample's
-step: ``max_compression`` (timeseries.csv) and ``compression`` (tether.npz) against MuJoCo's own
+step: ``max_compression`` (timeseries.csv) and ``compression`` (lines.npz) against MuJoCo's own
 constraint forces read here after every step (``efc_force`` of each element equality
 ``tether/element<j>``'s row, found by ``efc_type``/``efc_id`` and the equality's name, without
 mjtether's readouts or row cache).

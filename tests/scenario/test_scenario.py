@@ -137,15 +137,15 @@ def test_run_writes_a_complete_results_folder(tmp_path):
     out = tmp_path / "res"
     assert cli.main(["run", str(f), "--out", str(out)]) == 0
     names = {p.name for p in out.iterdir()}
-    assert {"timeseries.csv", "tether.npz", "summary.json", "tension.png", "profile.png", "track.png"} <= names
+    assert {"timeseries.csv", "lines.npz", "summary.json", "tension.png", "profile.png", "track.png"} <= names
     header = (out / "timeseries.csv").read_text().splitlines()[0].split(",")
     # a walker run: the tangle monitor's columns about a vehicle are left out, the cable's own kept
     assert header == results.column_names(vehicle=False)
     assert "cable_self_clearance_m" in header and "cable_clearance_m" not in header
     data = np.genfromtxt(out / "timeseries.csv", delimiter=",", skip_header=1)
     assert data.shape == (5, len(header)) and np.all(np.isfinite(data))
-    npz = np.load(out / "tether.npz")
-    assert npz["nodes"].shape == (5, 31, 3)
+    npz = np.load(out / "lines.npz")
+    assert npz["linetether_nodes"].shape == (5, 31, 3)
     s = json.loads((out / "summary.json").read_text())
     assert s["scenario"]["tether"]["segments"] == 30 and s["run"]["realtime_factor"] > 0
     assert all((out / p).stat().st_size > 1000 for p in ("tension.png", "profile.png", "track.png"))

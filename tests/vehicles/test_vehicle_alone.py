@@ -37,7 +37,7 @@ spiral_step_s = 10.0
 
 def test_a_vehicle_alone_from_the_cli(tmp_path):
     """``mjtether run`` of a vehicle without a tether: the CSV has the ship's and robot's columns
-    and none of the tether's, only track.png is plotted, there is no tether.npz, the summary
+    and none of the tether's, only track.png is plotted, lines.npz holds no line (the states only, for a replay), the summary
     reports no tensions; the vehicle flies its setpoint (1.5 m/s within 2 %, 20 m depth within
     0.2 m after 30 s)."""
     scenario = tmp_path / "alone.toml"
@@ -47,8 +47,10 @@ def test_a_vehicle_alone_from_the_cli(tmp_path):
                           capture_output=True, text=True, timeout=300)
     assert done.returncode == 0, done.stderr
     assert "no tether" in done.stdout
-    assert sorted(p.name for p in out.iterdir()) == ["mjtether-manifest.json", "summary.json", "timeseries.csv",
-                                                      "track.png"]
+    assert sorted(p.name for p in out.iterdir()) == ["lines.npz", "mjtether-manifest.json", "summary.json",
+                                                      "timeseries.csv", "track.png"]
+    with np.load(out / "lines.npz") as z:
+        assert sorted(z.files) == ["mocap_pos", "mocap_quat", "qpos", "time_s"]
     with open(out / "timeseries.csv") as fh:
         rows = list(csv.DictReader(fh))
     assert not [c for c in rows[0] if "tension" in c or "force" in c or "deployed" in c or "slack" in c]
