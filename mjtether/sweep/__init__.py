@@ -67,17 +67,38 @@ done the results are staged, committed to ``DIR``, and only then is the progress
 changing its version). An abandoned progress folder stays until a sweep into the same ``DIR``
 finishes or it is removed by hand.
 
+Networks. ``SCENARIO`` may be a network of lines instead (a TOML file with ``[[lines]]``, as in
+``examples/networks/``, or a MoorDyn file that ``mjtether.io.moordyn.load_any`` reads as a
+``Network``; ``plan.load_network``). Its keys are those ``--set`` takes on a network
+(``mjtether.network.overrides``): ``simulation.KEY``, ``water.KEY``, ``line_types.NAME.KEY``,
+``lines.NAME.KEY``, ``points.NAME.KEY`` (``position`` as ``[x, y, z]``), ``bodies.NAME.KEY``,
+``vehicles.NAME.KEY``, ``walkers.NAME.KEY`` (``position`` as ``[x, y]``); an unknown key or
+name, or a value not of the key's kind (a number, a whole number, two or three numbers), is refused before anything runs, and a value the network's own
+checks refuse (a range, a line too short for its held ends) makes its case invalid, so refused
+as for a scenario when it is so in every case. ``--set`` alone must give a valid network. Each
+case is ``mjtether.network.run.simulate(net)`` (``execute.run_network_case``), its figures
+(``plan.network_columns``): per line ``line<NAME>_peak_tension_N`` (largest tension at
+either end over the samples), ``line<NAME>_final_A_tension_N`` and ``..._final_B_tension_N``,
+then ``peak_tension_N`` (the largest over the lines), ``timestep_s``, ``diverged_at_s``,
+``wall_s``, ``started_at``, ``initial_state`` (the run's note). The resume key is a SHA-256
+of the case's ``mjtether.network.to_dict`` (JSON, sorted keys) and the versions;
+``summary.png`` has one panel, the peak tension; the file's copy is ``network.toml`` (a MoorDyn
+file's: ``network`` and its suffix) and ``sweep.json`` says ``"kind": "network"``.
+``--jobs`` and ``--ray`` run network cases the same way.
+
 The package, by idea:
 
 * ``plan``: ``--vary`` specs (``Vary``, ``parse_vary``) and the checked cases (``Case``, ``Plan``,
-  ``make_plan``), with ``SweepError``;
-* ``execute``: one case (``run_case``) and running the cases on this process and a pool of
-  worker processes (``run_local``) or as Ray tasks (``run_ray``);
+  ``make_plan``; a network's: ``load_network``, ``make_network_plan``, ``network_columns``), with
+  ``SweepError``;
+* ``execute``: one case (``run_case``; a network's: ``run_network_case``) and running the cases
+  on this process and a pool of worker processes (``run_local``) or as Ray tasks (``run_ray``);
 * ``outputs``: the progress folder (``Journal``, ``progress_folder``) and the results folder
   (``table``, ``write_csv``, ``write_parquet``, ``plot``, ``write_results``, ``check_out``);
 * this module: the command, ``sweep(...)`` and ``cli(args)``.
 
-Imports: the scenario (``mjtether.scenario``: its config, loading and runner), ``mjtether.io``
+Imports: the scenario (``mjtether.scenario``: its config, loading and runner), the network
+(``mjtether.network``: its config, overrides and run), ``mjtether.io``
 (``outdir``, and ``results`` for a case's figures), ``simulation`` (``SimulationDiverged``) and
 ``units``; never the environments (``mjtether.envs``). Within the package ``plan`` imports none of
 the others, ``outputs`` imports ``plan``, ``execute`` imports ``plan`` and ``outputs``. Every name
@@ -93,6 +114,7 @@ import time
 from pathlib import Path
 
 from mjtether.io.outdir import terminate_as_exit
+from mjtether.network import Network
 
 from . import execute
 from .execute import (
@@ -108,6 +130,7 @@ from .execute import (
     _worker_start,
     run_case,
     run_local,
+    run_network_case,
     run_ray,
 )
 from .outputs import (
@@ -118,6 +141,7 @@ from .outputs import (
     Journal,
     _atomic_write,
     check_out,
+    columns_of,
     have_pyarrow,
     plot,
     progress_folder,
@@ -133,6 +157,7 @@ from .plan import (
     Case,
     Plan,
     SweepError,
+    NetParam,
     Vary,
     _is_number,
     _parse_value,
@@ -142,14 +167,18 @@ from .plan import (
     _show_list,
     _split,
     _toml,
+    load_network,
+    make_network_plan,
     make_plan,
+    network_columns,
     parse_vary,
 )
 
 __all__ = [
-    "COLUMNS", "FORMAT", "MAX_CASES", "PROGRESS_FORMAT", "Case", "Journal", "Plan", "SweepError", "Vary",
-    "check_out", "cli", "have_pyarrow", "make_plan", "parse_vary", "plot", "progress_folder", "require_pyarrow",
-    "run_case", "summary_figure",
+    "COLUMNS", "FORMAT", "MAX_CASES", "PROGRESS_FORMAT", "Case", "Journal", "NetParam", "Plan", "SweepError", "Vary",
+    "check_out", "cli", "columns_of", "have_pyarrow", "load_network", "make_network_plan", "make_plan",
+    "network_columns", "parse_vary", "plot", "progress_folder", "require_pyarrow", "run_case", "run_network_case",
+    "summary_figure",
     "run_local", "run_ray", "sweep", "table", "write_csv", "write_parquet", "write_results",
     # the flat module's private helpers, still attributes here (tests and older code reach for them)
     "_TEXT_COLUMNS", "_RunProbe", "_atomic_write", "_claim", "_claim_and_run", "_failed_figures", "_import_ray",
@@ -177,10 +206,14 @@ def sweep(scenario, vary: list[str], out, *, sets=(), samples: int | None = None
         raise SweepError(f"--jobs {jobs}: must be at least 1")
     if ray is not None:
         _import_ray()
-    varies = [parse_vary(v) for v in vary]
+    network = load_network(scenario)  # (None: a scenario)
+    varies = [parse_vary(v, network[0] if network else None) for v in vary]
     if not varies:
         raise SweepError("give at least one --vary KEY=SPEC")
-    plan = make_plan(scenario, varies, sets=sets, samples=samples, seed=seed)
+    if network is None:
+        plan = make_plan(scenario, varies, sets=sets, samples=samples, seed=seed)
+    else:
+        plan = make_network_plan(scenario, *network, varies, sets=sets, samples=samples, seed=seed)
     target = check_out(out, overwrite=overwrite, scenario=scenario)
     from mjtether.io.outdir import OutputError
 
@@ -203,8 +236,8 @@ def sweep(scenario, vary: list[str], out, *, sets=(), samples: int | None = None
                 by_key[c.key] = [c]
                 todo.append(c)
         invalid = sum(1 for c in plan.cases if c.sc is None)
-        # longest first (Scenario.estimate), so that no long case starts last
-        todo.sort(key=lambda c: -c.sc.estimate()["wall_hours"])
+        # longest first (Scenario.estimate; a network's _cost), so that no long case starts last
+        todo.sort(key=lambda c: -_cost(c.sc))
         n = len(plan.cases)
         if ray is not None:
             how = "as Ray tasks" + (f" at {ray}" if ray else "")
@@ -253,6 +286,15 @@ def sweep(scenario, vary: list[str], out, *, sets=(), samples: int | None = None
     if len(bad) > 5:
         log(f"  ... and {len(bad) - 5} more (see cases.csv)")
     return path
+
+
+def _cost(sc) -> float:
+    """A case's expected run time, for their order only: ``Scenario.estimate``'s hours; for a
+    network, its simulated time times its segments over its step (an unknown step: 1 ms), in
+    no unit (a network sweep's cases are all networks)."""
+    if isinstance(sc, Network):
+        return (sc.duration + sc.settle) * sum(ln.segments for ln in sc.lines) / (sc.timestep or 1e-3)
+    return sc.estimate()["wall_hours"]
 
 
 def cli(args) -> int:

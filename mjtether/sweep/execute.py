@@ -13,9 +13,10 @@ import signal
 import threading
 import time
 
+from ..network import Network
 from ..scenario import Scenario
 from .outputs import COLUMNS
-from .plan import Case, SweepError
+from .plan import Case, SweepError, network_columns
 
 # ------------------------------------------------------------------ one case
 
@@ -45,9 +46,12 @@ class _RunProbe:
             self.touchdown_end = touchdown
 
 
-def run_case(sc: Scenario) -> dict:
-    """Run one case (in whichever process): its figures (``COLUMNS``), ``status`` and ``error``.
-    Never raises for a failing case; KeyboardInterrupt and SystemExit pass through."""
+def run_case(sc: Scenario | Network) -> dict:
+    """Run one case (in whichever process): its figures (``COLUMNS``; a network's:
+    ``run_network_case``), ``status`` and ``error``. Never raises for a failing case;
+    KeyboardInterrupt and SystemExit pass through."""
+    if isinstance(sc, Network):
+        return run_network_case(sc)
     from mjtether.io.results import summary
     from mjtether.scenario.runner import RECORD_FIELDS, RunFailed, run
 
@@ -69,12 +73,53 @@ def run_case(sc: Scenario) -> dict:
     else:
         s = summary(sc, rows, info, None)
         col = {name: i for i, (name, _, _) in enumerate(RECORD_FIELDS)}
-        rec.update(peak_ship_tension_N=s["peak"]["ship_tension_N"], peak_tow_tension_N=s["peak"]["tow_tension_N"],
-                   final_ship_tension_N=s["final"]["ship_tension_N"], final_tow_tension_N=s["final"]["tow_tension_N"],
-                   final_deployed_length_m=s["final"]["deployed_length_m"],
-                   final_length_on_seabed_m=float(rows[-1, col["length_on_seabed"]]),
-                   touchdown_start_m=probe.touchdown_start, touchdown_end_m=probe.touchdown_end,
-                   min_node_z_m=float(rows[:, col["tether_lowest_z"]].min()), initial_state=info["initial_state"])
+        rec.update(initial_state=info["initial_state"])
+        if info.get("tethered", True):  # (a vehicle without a tether has no tension figures: left empty)
+            rec.update(peak_ship_tension_N=s["peak"]["ship_tension_N"], peak_tow_tension_N=s["peak"]["tow_tension_N"],
+                       final_ship_tension_N=s["final"]["ship_tension_N"],
+                       final_tow_tension_N=s["final"]["tow_tension_N"],
+                       final_deployed_length_m=s["final"]["deployed_length_m"],
+                       final_length_on_seabed_m=float(rows[-1, col["length_on_seabed"]]),
+                       touchdown_start_m=probe.touchdown_start, touchdown_end_m=probe.touchdown_end,
+                       min_node_z_m=float(rows[:, col["tether_lowest_z"]].min()))
+    rec["wall_s"] = time.perf_counter() - t0
+    return rec
+
+
+def run_network_case(net: Network) -> dict:
+    """Run one network case (``mjtether.network.run.simulate``, ``r.sim`` closed after): its
+    figures (``plan.network_columns``: each line's peak and final end tensions, N, from the
+    time series), ``status`` and ``error``, as ``run_case``."""
+    from mjtether.network.run import columns, simulate
+
+    from ..simulation import SimulationDiverged
+
+    started = time.time()
+    t0 = time.perf_counter()
+    rec = {name: None for name, _ in network_columns(net)}
+    rec.update(status="ok", error="", started_at=_iso(started))
+    try:
+        r, rows = simulate(net)
+    except Exception as exc:  # noqa: BLE001 - one bad case must not stop a long sweep
+        known = isinstance(exc, (SimulationDiverged, ValueError, RuntimeError))
+        rec.update(status="failed", error=(str(exc) or type(exc).__name__) if known else f"{type(exc).__name__}: {exc}")
+        if isinstance(exc, SimulationDiverged):
+            m = re.search(r"diverged at t = ([-+0-9.eE]+) s", str(exc))
+            rec["diverged_at_s"] = float(m.group(1)) if m else None
+    else:
+        try:
+            col = {name: j for j, name in enumerate(columns(net))}
+            peaks = []
+            for ln in net.lines:
+                a, b = (rows[:, col[f"line{ln.name}_{end}_tension_N"]] for end in "AB")
+                peaks.append(float(max(a.max(), b.max())))
+                rec[f"line{ln.name}_peak_tension_N"] = peaks[-1]
+                rec[f"line{ln.name}_final_A_tension_N"] = float(a[-1])
+                rec[f"line{ln.name}_final_B_tension_N"] = float(b[-1])
+            rec.update(peak_tension_N=max(peaks) if peaks else None, timestep_s=float(r.timestep),
+                       initial_state=r.note)
+        finally:
+            r.sim.close()
     rec["wall_s"] = time.perf_counter() - t0
     return rec
 
@@ -112,7 +157,7 @@ def _claim(claims, i: int) -> bool:
         return True
 
 
-def _claim_and_run(i: int, sc: Scenario) -> dict | None:
+def _claim_and_run(i: int, sc: Scenario | Network) -> dict | None:
     """In a worker: run case ``i`` unless the main process took it (then None)."""
     return run_case(sc) if _claim(_CLAIMS, i) else None
 

@@ -37,6 +37,11 @@ COLUMNS = [
 _TEXT_COLUMNS = {"started_at", "initial_state"}
 
 
+def columns_of(plan: Plan) -> list[tuple[str, str]]:
+    """The figures of ``plan``'s cases: ``COLUMNS``, or its network's (``network_columns``)."""
+    return COLUMNS if plan.columns is None else plan.columns
+
+
 # ------------------------------------------------------------------ progress (resume)
 
 
@@ -130,11 +135,12 @@ def progress_folder(out) -> Path:
 
 def table(plan: Plan, records: dict) -> tuple[list[str], list[list]]:
     """(column names, rows) of the results: one row per case, ``records`` {case index: record}."""
-    names = ["case"] + [v.column for v in plan.varies] + ["status", "error"] + [n for n, _ in COLUMNS]
+    figures = [n for n, _ in columns_of(plan)]
+    names = ["case"] + [v.column for v in plan.varies] + ["status", "error"] + figures
     rows = []
     for c in plan.cases:
         r = records.get(c.index) or {"status": "failed", "error": c.error or "not run"}
-        rows.append([c.index, *c.values, r.get("status"), r.get("error", "")] + [r.get(n) for n, _ in COLUMNS])
+        rows.append([c.index, *c.values, r.get("status"), r.get("error", "")] + [r.get(n) for n in figures])
     return names, rows
 
 
@@ -161,7 +167,7 @@ def write_parquet(path: Path, plan: Plan, names, rows) -> None:
 
     kinds = {"float": pa.float64(), "int": pa.int64(), "bool": pa.bool_(), "str": pa.string()}
     types = [pa.int64()] + [kinds.get(v.param.kind, pa.string()) for v in plan.varies] + [pa.string(), pa.string()]
-    types += [pa.string() if n in _TEXT_COLUMNS else pa.float64() for n, _ in COLUMNS]
+    types += [pa.string() if n in _TEXT_COLUMNS else pa.float64() for n, _ in columns_of(plan)]
     cols = []
     for j, (name, typ) in enumerate(zip(names, types)):
         vals = [r[j] for r in rows]
@@ -186,7 +192,8 @@ def plot(path: Path, plan: Plan, names, rows) -> None:
 
 
 def summary_figure(plan: Plan, names, rows):
-    """The figure of ``plot``: a panel per figure (peak ship-end tension, length on the seabed),
+    """The figure of ``plot``: a panel per figure (peak ship-end tension, length on the seabed;
+    a network's: its peak line tension, the largest over its lines),
     the ok cases as points, each failed case a red x at its own x along the panel's bottom (both
     panels' x ranges take in every case, failed or not, so no x falls outside its panel)."""
     import matplotlib
@@ -215,7 +222,10 @@ def summary_figure(plan: Plan, names, rows):
             legend = list(colours.items())
     panels = [("peak_ship_tension_N", "peak ship-end tension (N)"),
               ("final_length_on_seabed_m", "length on the seabed at the end (m)")]
-    fig, axes = plt.subplots(1, 2, figsize=(11, 4.5), layout="constrained")
+    if plan.kind == "network":
+        panels = [("peak_tension_N", "peak line tension, largest over the lines (N)")]
+    fig, axes = plt.subplots(1, len(panels), figsize=(5.5 * len(panels), 4.5), layout="constrained", squeeze=False)
+    axes = axes[0]
     ok = [k for k, r in enumerate(rows) if r[col["status"]] == "ok"]
     bad = [k for k, r in enumerate(rows) if r[col["status"]] != "ok"]
     groups = {}
@@ -267,13 +277,14 @@ def write_results(target: Path, plan: Plan, records: dict, *, overwrite: bool) -
         if parquet:
             write_parquet(st.path / "cases.parquet", plan, names, rows)
         plot(st.path / "summary.png", plan, names, rows)
-        (st.path / "scenario.toml").write_text(plan.text)
+        (st.path / plan.copy_name).write_text(plan.text)
         n_ok = sum(1 for r in rows if r[names.index("status")] == "ok")
-        meta = {"format": FORMAT, "scenario_file": plan.scenario, "set": plan.sets,
+        meta = {"format": FORMAT, **({"kind": "network", "copy": plan.copy_name} if plan.kind == "network" else {}),
+                "scenario_file": plan.scenario, "set": plan.sets,
                 "vary": [{"key": v.key, "spec": v.spec, "column": v.column} for v in plan.varies],
                 "samples": plan.samples, "seed": plan.seed if plan.samples else None,
                 "parquet": parquet, "cases": len(rows), "ok": n_ok, "failed": len(rows) - n_ok,
-                "columns": {n: m for n, m in COLUMNS},
+                "columns": {n: m for n, m in columns_of(plan)},
                 "case_overrides": [c.overrides for c in plan.cases],
                 "mjtether": __version__, "mujoco": mujoco.__version__}
         (st.path / "sweep.json").write_text(json.dumps(meta, indent=2) + "\n")

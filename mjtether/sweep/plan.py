@@ -1,5 +1,6 @@
 """The sweep's input: ``--vary`` specs (``Vary``, ``parse_vary``) and the checked cases
-(``Case``, ``Plan``, ``make_plan``), with ``SweepError``, the one-line reason a sweep cannot go on."""
+(``Case``, ``Plan``, ``make_plan``; a network's: ``load_network``, ``make_network_plan``, its
+figures ``network_columns``), with ``SweepError``, the one-line reason a sweep cannot go on."""
 
 from __future__ import annotations
 
@@ -23,6 +24,8 @@ from mjtether.scenario.config import (
     unknown_key_message,
 )
 
+from ..network import Network, NetworkError, to_dict
+from ..network import overrides as net_overrides
 from ..scenario import Scenario, load_scenario
 from ..units import KNOT
 
@@ -82,15 +85,16 @@ class Vary:
         return v, _toml(v)
 
 
-def parse_vary(item: str) -> Vary:
-    """A checked ``Vary`` from ``KEY=SPEC``; raises SweepError naming it."""
+def parse_vary(item: str, net: Network | None = None) -> Vary:
+    """A checked ``Vary`` from ``KEY=SPEC`` (a key of the network ``net`` where given: see
+    ``mjtether.network.overrides``); raises SweepError naming it."""
     key, sep, spec = str(item).partition("=")
     key, spec = key.strip(), spec.strip()
     where = f"--vary {item}"
     if not sep or not key or not spec:
         raise SweepError(f"{where}: must be KEY=START:STOP:COUNT or KEY=V1,V2,..., "
                          "e.g. --vary tether.length=200:1000:9")
-    path, param = _resolve(key, where)
+    path, param = _resolve(key, where) if net is None else _resolve_network(net, key, where)
     colons = _split(spec, ":")
     if len(colons) > 1:
         if len(colons) != 3 or len(_split(spec, ",")) > 1:
@@ -226,7 +230,7 @@ class Case:
     index: int
     values: tuple  # one per Vary
     overrides: list  # every override of the case (--set, then the varied keys)
-    sc: Scenario | None  # None: invalid (``error`` says why)
+    sc: Scenario | Network | None  # None: invalid (``error`` says why)
     error: str = ""
     key: str = ""  # resume key (see the package docstring)
 
@@ -240,6 +244,9 @@ class Plan:
     samples: int | None
     seed: int
     cases: list
+    kind: str = "scenario"  # or "network" (the cases' ``sc`` are then ``Network``s)
+    columns: list | None = None  # a network's figures ((name, meaning), as ``outputs.COLUMNS``)
+    copy_name: str = "scenario.toml"  # the results folder's copy of the file
 
 
 def make_plan(scenario, varies: list[Vary], *, sets=(), samples: int | None = None, seed: int = 0) -> Plan:
@@ -260,27 +267,15 @@ def make_plan(scenario, varies: list[Vary], *, sets=(), samples: int | None = No
         raise SweepError(f"{name}: cannot read the scenario ({exc.strerror})") from None
     except UnicodeDecodeError:
         text = None  # load_scenario says what is wrong with it
-    seen = {}
-    for v in varies:
-        if v.path in seen:
-            raise SweepError(f"--vary {v.key}: {v.path} is varied twice (also as --vary {seen[v.path]})")
-        seen[v.path] = v.key
-    varied = set(seen)
+    if text is not None and p.suffix.lower() != ".toml":
+        text = _moordyn_as_toml(name, text)
+    varied = _varied_once(varies)
     try:  # the file and --set on their own (an error about a varied key may be one the cases fix)
         load_scenario(scenario, text=text, name=name, overrides=list(sets))
     except ConfigError as exc:
         if exc.key not in varied or text is None:
             raise SweepError(str(exc)) from None
-    if samples is not None:
-        if not 1 <= samples <= MAX_CASES:
-            raise SweepError(f"--samples {samples}: must be in [1, {MAX_CASES}]")
-        rng = np.random.default_rng(seed)
-        combos = [[v.draw(rng) for v in varies] for _ in range(samples)]
-    else:
-        n = math.prod(len(v.values) for v in varies)
-        if n > MAX_CASES:
-            raise SweepError(f"--vary: {n} cases is more than {MAX_CASES}; use fewer values or --samples")
-        combos = itertools.product(*[list(zip(v.values, v.texts)) for v in varies])
+    combos = _combos(varies, samples, seed)
     versions = {"mjtether": __version__, "mujoco": mujoco.__version__}
     cases = []
     for i, combo in enumerate(combos):
@@ -294,11 +289,54 @@ def make_plan(scenario, varies: list[Vary], *, sets=(), samples: int | None = No
             blob = json.dumps({"scenario": case.sc.to_dict(), **versions}, sort_keys=True)
             case.key = hashlib.sha256(blob.encode()).hexdigest()[:32]
         cases.append(case)
+    _refuse_invalid(varies, cases, samples)
+    return Plan(name, text or "", list(sets), list(varies), samples, seed, cases)
+
+
+def _moordyn_as_toml(name: str, text: str) -> str:
+    """A MoorDyn file of one line (read as a scenario: ``io.moordyn.read``) as the scenario TOML
+    its cases vary (``scenario.to_toml``; it is what the sweep copies as ``scenario.toml``); any
+    other text as it is."""
+    from mjtether.io.moordyn import is_moordyn, read
+
+    from ..scenario import ScenarioError, to_toml
+
+    if not is_moordyn(text):
+        return text
+    try:
+        return to_toml(read(text=text, name=name))
+    except ScenarioError as exc:
+        raise SweepError(str(exc)) from None
+
+
+def _varied_once(varies) -> set:
+    """The varied key paths; a key varied twice is refused."""
+    seen = {}
+    for v in varies:
+        if v.path in seen:
+            raise SweepError(f"--vary {v.key}: {v.path} is varied twice (also as --vary {seen[v.path]})")
+        seen[v.path] = v.key
+    return set(seen)
+
+
+def _combos(varies, samples, seed):
+    """Each case's ((value, text) per Vary): ``samples`` random draws, or the product."""
+    if samples is not None:
+        if not 1 <= samples <= MAX_CASES:
+            raise SweepError(f"--samples {samples}: must be in [1, {MAX_CASES}]")
+        rng = np.random.default_rng(seed)
+        return [[v.draw(rng) for v in varies] for _ in range(samples)]
+    n = math.prod(len(v.values) for v in varies)
+    if n > MAX_CASES:
+        raise SweepError(f"--vary: {n} cases is more than {MAX_CASES}; use fewer values or --samples")
+    return itertools.product(*[list(zip(v.values, v.texts)) for v in varies])
+
+
+def _refuse_invalid(varies, cases, samples) -> None:
     if samples is None:
         _refuse_always_invalid(varies, cases)
     elif all(c.sc is None for c in cases):
         raise SweepError(f"every case is invalid; case 0: {cases[0].error}")
-    return Plan(name, text or "", list(sets), list(varies), samples, seed, cases)
 
 
 def _refuse_always_invalid(varies, cases) -> None:
@@ -318,3 +356,130 @@ def _refuse_always_invalid(varies, cases) -> None:
                 why = first[k].error.removeprefix("invalid case: ")
                 raise SweepError(f"--vary {v.key}={v.spec}: {v.key} = {_show(value)} is invalid in every case "
                                  f"({why})")
+
+
+# ------------------------------------------------------------------ a network
+
+
+@dataclass(frozen=True)
+class NetParam:
+    """What a network key (``mjtether.network.overrides.Key``) may hold, in the shape ``Vary``
+    reads a scenario's ``Param``: its kind (float, int, vec3, str) and unit. Its range is the
+    network's own checks, made on each case (``make_network_plan``)."""
+
+    kind: str
+    unit: str = ""
+    knots: bool = False
+
+    def allowed(self) -> str:
+        unit = f" ({self.unit})" if self.unit else ""
+        return {"float": f"a number{unit}", "int": "a whole number", "vec3": f"three numbers [x, y, z]{unit}",
+                "vec2": f"two numbers [x, y]{unit}", "str": "text"}[self.kind]
+
+    def check(self, key: str, value):
+        """``value`` if it is of this kind, or ConfigError."""
+        ok = {"float": _is_number(value) and math.isfinite(value),
+              "int": isinstance(value, int) and not isinstance(value, bool),
+              "vec3": isinstance(value, list) and len(value) == 3 and all(_is_number(x) for x in value),
+              "vec2": isinstance(value, list) and len(value) == 2 and all(_is_number(x) for x in value),
+              "str": isinstance(value, str)}[self.kind]
+        if not ok:
+            raise ConfigError(f"{key} = {_show(value)}: must be {self.allowed()}", key)
+        return value
+
+
+def network_columns(net) -> list[tuple[str, str]]:
+    """The figures of each case of a network sweep (as ``outputs.COLUMNS``): per line of ``net`` its
+    peak and final end tensions (N; the ends' tensions of ``mjtether.network.run.columns``, one
+    per output interval), then the peak over every line, the time step and the scenario sweep's
+    bookkeeping."""
+    cols = []
+    for ln in net.lines:
+        cols += [(f"line{ln.name}_peak_tension_N", f"line {ln.name}: largest tension at either end over the samples"),
+                 (f"line{ln.name}_final_A_tension_N", f"line {ln.name}: tension at end A ({ln.a}) at the end"),
+                 (f"line{ln.name}_final_B_tension_N", f"line {ln.name}: tension at end B ({ln.b}) at the end")]
+    return cols + [
+        ("peak_tension_N", "largest line_peak_tension_N over the lines"),
+        ("timestep_s", "the run's time step (s; mjtether's choice where simulation.timestep is not given)"),
+        ("diverged_at_s", "simulated time at which the run diverged (SimulationDiverged), else empty"),
+        ("wall_s", "wall-clock time of the case (s)"),
+        ("started_at", "wall-clock start of the case (UTC, ISO 8601)"),
+        ("initial_state", "how the run started (NetworkRun.note)"),
+    ]
+
+
+def _resolve_network(net: Network, key: str, where: str) -> tuple[str, NetParam]:
+    """(the key, its NetParam) for a key of ``net`` (``overrides.resolve``), or SweepError."""
+    key = key.strip()
+    try:
+        k = net_overrides.resolve(net, key)
+    except NetworkError as exc:
+        why = str(exc).removeprefix(f"--set {key}: ").replace("takes --set KEY=VALUE with KEY", "takes --vary KEY=SPEC "
+                                                                "with KEY")
+        raise SweepError(f"{where}: {why}") from None
+    return key, NetParam("float" if k.kind == "timestep" else k.kind, k.unit)
+
+
+def load_network(source):
+    """(the ``Network``, the file's text) if ``source`` is a network (a TOML file with
+    ``[[lines]]``, or a MoorDyn file that ``load_any`` reads as one), else None: the file then
+    goes to the scenario sweep, whose checks say what is wrong with it. Raises SweepError for a
+    network file that cannot be read as one."""
+    from mjtether.io.moordyn import is_moordyn, load_any
+    from mjtether.io.packagedata import shipped_example
+
+    p = shipped_example(source) or Path(source)
+    try:
+        text = p.read_bytes().decode("utf-8-sig")
+    except (OSError, UnicodeDecodeError):
+        return None
+    if p.suffix.lower() != ".toml" and is_moordyn(text):
+        network = True
+    else:
+        try:
+            network = "lines" in tomllib.loads(text)
+        except tomllib.TOMLDecodeError:
+            return None
+    if not network:
+        return None
+    try:
+        net = load_any(source)
+    except ValueError as exc:
+        raise SweepError(str(exc)) from None
+    return (net, text) if isinstance(net, Network) else None
+
+
+def make_network_plan(source, net: Network, text: str, varies: list[Vary], *, sets=(), samples: int | None = None,
+                      seed: int = 0) -> Plan:
+    """Every case of a network sweep, each the network with ``--set`` and its varied keys
+    (``with_overrides``, which checks it), keyed by a SHA-256 of its ``to_dict`` and the versions;
+    raises SweepError for input that is wrong in every case (as ``make_plan``)."""
+    import mujoco
+
+    from mjtether import __version__
+    from mjtether.io.packagedata import shipped_example
+
+    _varied_once(varies)
+    labelled = [(s, f"--set {s}") for s in sets]
+    try:
+        net_overrides.with_overrides(net, labelled)
+    except NetworkError as exc:
+        raise SweepError(str(exc)) from None
+    versions = {"mjtether": __version__, "mujoco": mujoco.__version__}
+    cases = []
+    for i, combo in enumerate(_combos(varies, samples, seed)):
+        mine = [f"{v.key}={t}" for v, (_, t) in zip(varies, combo)]
+        case = Case(i, tuple(x for x, _ in combo), list(sets) + mine, None)
+        try:
+            case.sc = net_overrides.with_overrides(net, labelled + [(m, m) for m in mine])
+        except NetworkError as exc:
+            case.error = f"invalid case: {exc}"
+        else:
+            blob = json.dumps({"network": to_dict(case.sc), **versions}, sort_keys=True)
+            case.key = hashlib.sha256(blob.encode()).hexdigest()[:32]
+        cases.append(case)
+    _refuse_invalid(varies, cases, samples)
+    suffix = (shipped_example(source) or Path(source)).suffix.lower()
+    copy = "network" + (suffix if suffix[1:].isalnum() else ".txt")
+    return Plan(str(source), text, list(sets), list(varies), samples, seed, cases, kind="network",
+                columns=network_columns(net), copy_name=copy)
