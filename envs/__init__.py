@@ -7,7 +7,10 @@ Importing this package registers:
 * ``mjtether/TetheredWalker-v0`` (``TetheredWalkerEnv``): command the walker's gait and the
   winch to reach a goal on the seabed;
 * ``mjtether/TetheredROV-v0`` (``TetheredROVEnv``): command an ROV's thrusters to hold station
-  (or follow waypoints) at depth in a current on its umbilical.
+  (or follow waypoints) at depth in a current on its umbilical;
+* ``mjtether/TetheredSystem-v0`` (``TetheredSystemEnv``): fly a vehicle of a system file (a network
+  of lines, points, bodies and vehicles; a MoorDyn file) to hold station; the observation names the
+  lines (``observation_names``).
 
 Hand-written controllers to compare against (``baselines``): ``FollowPayout`` (Khan et al.
 2023, Eq. 30), ``SlantRangePayout``, ``SlackPI`` (tuned; the strongest), ``SteerToGoal`` and
@@ -22,13 +25,15 @@ from gymnasium.envs.registration import register, registry
 from .baselines import FollowPayout, SlackPI, SlantRangePayout, StationKeepingPID, SteerToGoal
 from .tether_winch import TetherWinchEnv
 from .tethered_rov import TetheredROVEnv
+from .tethered_system import TetheredSystemEnv
 from .tethered_walker import TetheredWalkerEnv
 
-__all__ = ["TetherWinchEnv", "TetheredWalkerEnv", "TetheredROVEnv", "FollowPayout", "SlantRangePayout", "SlackPI",
-           "SteerToGoal", "StationKeepingPID"]
+__all__ = ["TetherWinchEnv", "TetheredWalkerEnv", "TetheredROVEnv", "TetheredSystemEnv", "FollowPayout",
+           "SlantRangePayout", "SlackPI", "SteerToGoal", "StationKeepingPID"]
 
 for _id, _entry, _steps in (("mjtether/TetherWinch-v0", "mjtether.envs.tether_winch:TetherWinchEnv", 600),
                             ("mjtether/TetheredWalker-v0", "mjtether.envs.tethered_walker:TetheredWalkerEnv", 900),
-                            ("mjtether/TetheredROV-v0", "mjtether.envs.tethered_rov:TetheredROVEnv", 600)):
+                            ("mjtether/TetheredROV-v0", "mjtether.envs.tethered_rov:TetheredROVEnv", 600),
+                            ("mjtether/TetheredSystem-v0", "mjtether.envs.tethered_system:TetheredSystemEnv", 600)):
     if _id not in registry:
         register(id=_id, entry_point=_entry, max_episode_steps=_steps)
