@@ -118,17 +118,17 @@ MAX_FILE_BYTES = 64 * 1024 * 1024
 """The largest input text file read (bytes): a vehicle file, a MoorDyn file's side files."""
 
 
-def read_text(label: str, path, max_bytes: int = MAX_FILE_BYTES) -> str:
+def read_text(label: str, path, max_bytes: int = MAX_FILE_BYTES, *, kind: str = "text file") -> str:
     """The UTF-8 text of the file ``path`` (a byte-order mark allowed), or ValueError starting
     with ``label`` (the file as the error names it) saying what is wrong: no such file, a folder
     or a device, too large, UTF-16, a byte that is not UTF-8 (its line). Never the file's
-    contents."""
+    contents. ``kind``: what the file should be (``"scenario .toml file"``), for the advice."""
     from pathlib import Path
     p = Path(path)
     if not p.exists():
         raise ValueError(f"{label}: no such file")
     if not p.is_file():
-        raise ValueError(f"{label}: is {'a folder' if p.is_dir() else 'not a regular file'}; give a text file")
+        raise ValueError(f"{label}: is {'a folder' if p.is_dir() else 'not a regular file'}; give a {kind}")
     try:
         size = p.stat().st_size
         if size > max_bytes:

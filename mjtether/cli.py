@@ -9,7 +9,7 @@ import warnings
 from pathlib import Path
 
 from mjtether import _checks, demo
-from mjtether.io.outdir import terminate_as_exit
+from mjtether.files.outdir import terminate_as_exit
 
 from .units import knots
 
@@ -47,12 +47,14 @@ def main(argv=None) -> int:
     render_cmd.add_argument("--duration", type=float, help="simulated seconds to render (default: the scenario's)")
     render_cmd.add_argument("--overwrite", action="store_true", help="replace an existing video file")
     _video_options(render_cmd)
-    solve_cmd = sub.add_parser("solve", help="print the quasi-static answer for a scenario's initial state")
+    solve_cmd = sub.add_parser("solve", help="print the quasi-static answer for a scenario's or a network's initial "
+                               "state")
     solve_cmd.add_argument("scenario", nargs="?", help="scenario TOML file or MoorDyn v2 input file (default: the built-in scenario)")
     _set_option(solve_cmd)
-    sweep_cmd = sub.add_parser("sweep", help="run a scenario over a grid or a random sample of key values; one "
-                               "row of figures per case (see mjtether.sweep)")
-    sweep_cmd.add_argument("scenario", help="scenario TOML file, or a shipped example by name (default_walker)")
+    sweep_cmd = sub.add_parser("sweep", help="run a scenario or a network of lines over a grid or a random sample "
+                               "of key values; one row of figures per case (see mjtether.sweep)")
+    sweep_cmd.add_argument("scenario", help="scenario TOML file, a network (TOML with [[lines]], or a MoorDyn file), "
+                           "or a shipped example by name (default_walker, networks/rov_cage_excursion)")
     _set_option(sweep_cmd)
     sweep_cmd.add_argument("--vary", action="append", required=True, metavar="KEY=SPEC",
                            help="a key and its values (repeatable): START:STOP:COUNT (both ends included, e.g. "
@@ -82,7 +84,7 @@ def _plain_warnings(prefix: str):
     rather than glued to it (others, e.g. numpy's, as Python shows them)."""
     from tqdm import tqdm
 
-    from mjtether.io.mjlog import MujocoWarning
+    from mjtether.files.mjlog import MujocoWarning
 
     shown = warnings.showwarning
 
@@ -148,12 +150,19 @@ def _video_options(p) -> None:
                    help="MuJoCo's default visuals (shadows, reflections, anti-aliasing): slower")
 
 
+def _video_settings(args):
+    """The ``render.VideoSettings`` of the options in ``args``; raises ValueError on bad ones."""
+    from mjtether.io.render import VideoSettings
+
+    return VideoSettings(width=args.width, height=args.height, fps=args.fps, camera=args.camera,
+                         tuned=not args.default_visuals, tension_scale=args.tension_scale)
+
+
 def _video_factory(args, path, duration=None, overwrite=True):
     """A ``run(video=...)`` factory for the options in ``args``; raises ValueError on bad ones."""
-    from mjtether.io.render import VideoRecorder, VideoSettings, check_output_path
+    from mjtether.io.render import VideoRecorder, check_output_path
 
-    settings = VideoSettings(width=args.width, height=args.height, fps=args.fps, camera=args.camera,
-                             tuned=not args.default_visuals, tension_scale=args.tension_scale)
+    settings = _video_settings(args)
     check_output_path(path, overwrite=overwrite)
     return lambda runner: VideoRecorder(runner, path, settings, duration=duration)
 
@@ -227,7 +236,7 @@ def _simulate(sc, command: str, what: str, **kw):
 
 def _run(args) -> int:
     from mjtether.io import results
-    from mjtether.io.outdir import OutputError, Staging, check_target
+    from mjtether.files.outdir import OutputError, Staging, check_target
     from mjtether.network import Network
 
     sc = _load(args.scenario, args.set, network=True)
@@ -281,45 +290,38 @@ def _run(args) -> int:
 
 def _run_network(args, net) -> int:
     """``mjtether run`` of a network of lines (``mjtether.network.run``)."""
-    from tqdm import tqdm
-
-    from mjtether.io.outdir import OutputError, check_target
+    from mjtether.files.outdir import OutputError, check_target
+    from mjtether.io.network_view import network_video_into
     from mjtether.network import run
 
     from .simulation import SimulationDiverged
 
+    video = None
     if args.video:
-        print("mjtether run: --video: networks of lines are not rendered yet", file=sys.stderr)
-        return 2
+        try:
+            video = network_video_into(_video_settings(args), Path(args.video).name)
+        except ValueError as exc:
+            print(f"mjtether run: {exc}", file=sys.stderr)
+            return 2
     try:
         check_target(args.out, overwrite=args.overwrite, protect=[args.scenario])
     except OutputError as exc:
         print(f"mjtether run: {exc}", file=sys.stderr)
         return 2
-    bar = tqdm(total=1, unit="step", desc="mjtether run", leave=False)
-
-    def progress(k, n):
-        bar.total = n
-        bar.update(k - bar.n)
-
-    try:
-        r, rows = run.run_to(net, args.out, overwrite=args.overwrite, source=args.scenario, progress=progress)
-    except (SimulationDiverged, ValueError, RuntimeError, OutputError) as exc:
-        bar.close()
-        print(f"mjtether run: failed, no results written: {exc}", file=sys.stderr)
-        return 1
-    except KeyboardInterrupt:
-        bar.close()
-        print("mjtether run: interrupted; no results written", file=sys.stderr)
-        return 130
-    bar.close()
+    done, rc = _with_bar("run", "results", lambda progress: run.run_to(
+        net, args.out, overwrite=args.overwrite, source=args.scenario, progress=progress, video=video),
+        (SimulationDiverged, ValueError, RuntimeError, OutputError))
+    if done is None:
+        return rc
+    r, rows = done
     final = dict(zip(run.columns(net), rows[-1]))
     if net.lines:
         worst = max(net.lines, key=lambda ln: final[f"line{ln.name}_B_tension_N"])
         what = f"largest end-B tension {final[f'line{worst.name}_B_tension_N']:.0f} N (line {worst.name})"
     else:
         what = f"{len(net.bodies)} bodies, no lines"
-    print(f"{rows[-1, 0]:g} s simulated ({len(net.lines)} lines, step {r.timestep:g} s); {what}; results in "
+    shown = f"; video {r.video['file']} ({r.video['frames']} frames)" if r.video else ""
+    print(f"{rows[-1, 0]:g} s simulated ({len(net.lines)} lines, step {r.timestep:g} s); {what}{shown}; results in "
           f"{args.out}/")
     return 0
 
@@ -329,9 +331,12 @@ def _render(args) -> int:
         return _replay(args)
     sets = args.set + ([(f"simulation.duration={args.duration!r}", f"--duration {args.duration:g}")]
                        if args.duration is not None else [])
-    sc = _load(args.scenario, sets)
+    sc = _load(args.scenario, sets, network=True)
     if sc is None:
         return 2
+    from mjtether.network import Network
+    if isinstance(sc, Network):
+        return _render_network(args, sc)
     try:
         video = _video_factory(args, args.output, overwrite=args.overwrite)
     except ValueError as exc:
@@ -350,6 +355,63 @@ def _render(args) -> int:
     colours = f"tension colours 0-{v['tension_scale_N']:g} N" if info["tethered"] else "no tether"
     print(f"{v['frames']} frames ({info['simulated_s']:.1f} s at {v['fps']:g} fps, camera {v['camera']}) in "
           f"{info['wall_time_s']:.1f} s; {colours}; wrote {v['file']}")
+    return 0
+
+
+def _with_bar(command: str, what: str, call, errors):
+    """``call(progress)`` under a progress bar: (its result, None), or (None, the exit code) after
+    printing why nothing (``what``) was written: one of ``errors`` (1) or Ctrl-C (130)."""
+    from tqdm import tqdm
+
+    bar = tqdm(total=1, unit="step", desc=f"mjtether {command}", leave=False)
+
+    def progress(k, n):
+        bar.total = n
+        bar.update(k - bar.n)
+
+    try:
+        return call(progress), None
+    except errors as exc:
+        bar.close()  # (so that the message starts a line of its own)
+        print(f"mjtether {command}: failed, no {what} written: {exc}", file=sys.stderr)
+        return None, 1
+    except KeyboardInterrupt:
+        bar.close()
+        print(f"mjtether {command}: interrupted; no {what} written", file=sys.stderr)
+        return None, 130
+    finally:
+        bar.close()
+
+
+def _render_network(args, net) -> int:
+    """``mjtether render`` of a network of lines: simulated and rendered, nothing else written."""
+    import time
+
+    from mjtether.io.network_view import network_video
+    from mjtether.io.render import RenderUnavailable
+    from mjtether.network import run
+
+    from .simulation import SimulationDiverged
+
+    try:
+        video = network_video(_video_settings(args), args.output, overwrite=args.overwrite)
+    except ValueError as exc:
+        print(f"mjtether render: {exc}", file=sys.stderr)
+        return 2
+    def simulate(progress):
+        with terminate_as_exit():  # the half-written video is removed on SIGTERM too
+            r, rows = run.simulate(net, progress=progress, video=video)
+        r.sim.close()
+        return r, rows
+
+    t0 = time.perf_counter()
+    done, rc = _with_bar("render", "video", simulate, (SimulationDiverged, ValueError, RuntimeError, RenderUnavailable))
+    if done is None:
+        return rc
+    r, rows = done
+    v = r.video
+    print(f"{v['frames']} frames ({rows[-1, 0]:.1f} s at {v['fps']:g} fps, camera {v['camera']}) in "
+          f"{time.perf_counter() - t0:.1f} s; tension colours 0-{v['tension_scale_N']:g} N; wrote {args.output}")
     return 0
 
 
@@ -374,10 +436,11 @@ def _replay(args) -> int:
     except KeyboardInterrupt:
         print("mjtether render: interrupted; no video written", file=sys.stderr)
         return 130
+    colours = f"tension colours 0-{v['tension_scale_N']:g} N" if v.get("tethered", True) else "no tether"
     note = "" if v["smooth"] else (f"; it holds each of the {v['samples']} samples {v['output_interval_s']:g} s "
                                    "apart (simulation.output_interval) for a smooth replay run with it at 1/fps")
     print(f"{v['frames']} frames ({v['simulated_s']:.1f} s at {v['fps']:g} fps, camera {v['camera']}) replayed from "
-          f"{args.scenario} in {v['wall_time_s']:.1f} s; tension colours 0-{v['tension_scale_N']:g} N; wrote "
+          f"{args.scenario} in {v['wall_time_s']:.1f} s; {colours}; wrote "
           f"{v['file']}{note}")
     return 0
 
@@ -405,7 +468,7 @@ def _convert(args) -> int:
                 raise ScenarioError("a network of lines is written as a MoorDyn file only (give a target that "
                                     "does not end in .toml)")
             files = {target: moordyn.write_network(sc)}
-            if sc.current_depths:
+            if moordyn.current_table(sc):
                 files[target.parent / moordyn.CURRENT_FILE] = moordyn.current_profile(sc)
         else:
             files = {target: to_toml(sc) if target.suffix.lower() == ".toml" else moordyn.write(sc)}
@@ -444,11 +507,14 @@ def _sweep(args) -> int:
 def _solve(args) -> int:
     import numpy as np
 
+    from mjtether.network import Network
     from mjtether.scenario.runner import ScenarioRun
 
-    sc = _load(args.scenario, args.set)
+    sc = _load(args.scenario, args.set, network=True)
     if sc is None:
         return 2
+    if isinstance(sc, Network):
+        return _solve_network(sc)
     from mjtether.scenario.runner import RunFailed
     try:
         r = ScenarioRun(sc)
@@ -480,6 +546,43 @@ def _solve(args) -> int:
         _print_khan(r)
     finally:
         r.close()
+    return 0
+
+
+def _solve_network(net) -> int:
+    """``mjtether solve`` of a network of lines: each line's end forces at the steady state, the
+    free points' positions and what the statics hold instead of balancing (``network.solve``)."""
+    import numpy as np
+
+    from mjtether.network.solve import solve
+
+    try:
+        sol = solve(net)
+    except (ValueError, RuntimeError) as exc:
+        print(f"mjtether solve: {exc}", file=sys.stderr)
+        return 1
+    print(f"steady state of {len(net.lines)} line(s): {sol.note}")
+    width = max([4] + [len(n) for n in sol.lines])
+    print(f"  {'line':{width}s}  {'end A':>10s} {'tension N':>11s} {'horiz. N':>10s}   {'end B':>10s} "
+          f"{'tension N':>11s} {'horiz. N':>10s}  shape")
+    for ln in net.lines:
+        e = sol.lines[ln.name]
+        ha, hb = float(np.hypot(*e.force_a[:2])), float(np.hypot(*e.force_b[:2]))
+        shape = "catenary" if e.catenary else "straight bar (half its wet weight at each end)"
+        print(f"  {ln.name:{width}s}  {ln.a:>10.10s} {e.tension_a:11.1f} {ha:10.1f}   {ln.b:>10.10s} "
+              f"{e.tension_b:11.1f} {hb:10.1f}  {shape}")
+    free = [n for n, p in net.points.items() if p.kind == "free"]
+    for name in free:
+        x, y, z = sol.positions[name]
+        print(f"  point {name}: ({x:.2f}, {y:.2f}, {z:.2f}) m")
+    for name, pose in sorted(getattr(sol, "poses", {}).items()):
+        (x, y, z), (roll, pitch, yaw) = pose.position, pose.rpy_deg
+        print(f"  body {name}: ({x:.2f}, {y:.2f}, {z:.2f}) m, roll/pitch/yaw ({roll:.2f}, {pitch:.2f}, {yaw:.2f}) deg")
+    for sentence in sol.unbalanced:
+        print(f"  (not balanced by the statics: {sentence})")
+    if not sol.balanced:
+        print(f"mjtether solve: {sol.note}", file=sys.stderr)
+        return 1
     return 0
 
 

@@ -7,8 +7,8 @@
 Each shipped example (``examples/**/*.toml``, installed as ``mjtether.examples``) gets a small
 PNG under ``docs/gallery/``: a scenario is built as ``mjtether run`` builds it (its steady start)
 and drawn offscreen from the side at t = 0, as ``mjtether render`` draws it (the tether coloured
-by tension); a network of lines, which is not rendered yet, is built at its steady state and its
-lines plotted from the side and from above with matplotlib. ``docs/gallery/manifest.json`` records
+by tension); a network of lines is built at its steady start and drawn the same way, every line
+coloured by tension (``mjtether.io.network_view``). ``docs/gallery/manifest.json`` records
 each example file's sha256 with its picture, and ``docs/gallery.md`` is written from the manifest
 and each example's leading comment. ``--check`` renders nothing: it reads the manifest, the
 example files and the pictures, so a test can run it in a second.
@@ -89,34 +89,29 @@ def render_scenario(name: str, out: Path) -> str:
     return "its start (t = 0) from the side, as `mjtether render --camera side` draws it"
 
 
-def plot_network(name: str, out: Path) -> str:
-    """Plot the network's lines at its steady start: side view (x, z) and plan view (x, y)."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+def render_network(name: str, out: Path) -> str:
+    """Draw the network at its steady start (settled, where its file asks for that, as ``mjtether
+    run`` starts it) with the video's renderer (``io.network_view``); the caption's how."""
+    import imageio.v3 as iio
 
     from mjtether.io import moordyn
-    from mjtether.network.run import build
+    from mjtether.io.network_view import NetworkView
+    from mjtether.io.render import FrameRenderer, VideoSettings
+    from mjtether.network.run import build, settle
 
     net = moordyn.load_any(name)
     r = build(net)
-    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(WIDTH / 100, HEIGHT / 100), dpi=100)
-    for ln in net.lines:
-        x = r.line_nodes(ln.name)
-        ax1.plot(x[:, 0], x[:, 2], lw=1.2)
-        ax2.plot(x[:, 0], x[:, 1], lw=1.2)
-    ax1.axhline(-float(net.depth), color="0.4", lw=0.8)
-    ax1.axhline(0.0, color="tab:blue", lw=0.6)
-    ax1.set_title("side (x, z)", fontsize=8)
-    ax2.set_title("plan (x, y)", fontsize=8)
-    ax2.set_aspect("equal", adjustable="datalim")
-    for ax in (ax1, ax2):
-        ax.tick_params(labelsize=6)
-    fig.tight_layout()
-    fig.savefig(out, dpi=100)
-    plt.close(fig)
-    return "its lines at the steady start, side and plan views (m)"
+    try:
+        if net.settle > 0 and net.start == "steady":
+            settle(r, net.settle)
+        fr = FrameRenderer(NetworkView(r), VideoSettings(width=WIDTH, height=HEIGHT, camera="side"))
+        try:
+            iio.imwrite(out, fr.render(), optimize=True)
+        finally:
+            fr.close()
+    finally:
+        r.sim.close()
+    return "its start from the side, every line coloured by tension, as `mjtether render --camera side` draws it"
 
 
 def load_manifest() -> dict:
@@ -132,7 +127,7 @@ def page(manifest: dict) -> str:
            "example has its picture and that none is older than its file",
            "(`docs/gallery/manifest.json` holds each file's sha256). Scenarios are drawn at their",
            "start, the tether coloured by tension (blue: slack, red: the top of the scale); networks",
-           "of lines, which `mjtether render` does not draw yet, are plotted.", ""]
+           "of lines likewise, every line on one tension scale.", ""]
     for name in examples():
         entry = manifest.get(name, {})
         out += [f"## {name}", "", description(name), "",
@@ -188,7 +183,7 @@ def main(argv=None) -> int:
             continue
         t0 = time.perf_counter()
         out = GALLERY / image_of(name)
-        caption = (plot_network if _is_network(name) else render_scenario)(name, out)
+        caption = (render_network if _is_network(name) else render_scenario)(name, out)
         manifest[name] = {"sha256": sha256(name), "image": image_of(name), "caption": caption}
         MANIFEST.write_text(json.dumps(dict(sorted(manifest.items())), indent=1) + "\n")
         print(f"{name}: {out.relative_to(ROOT)} ({out.stat().st_size // 1024} KiB, "

@@ -102,8 +102,8 @@ def test_bad_scenario_file_is_refused_with_the_key(case, tmp_path, capsys):
 
 ENCODINGS = {  # name: (bytes of the file, what the error must contain)
     "Latin-1": ("# profondeur mesur\xe9e\n[water]\ndepth = 100.0\n".encode("latin-1"),
-                "line 1: byte 0xe9 is not UTF-8; TOML files must be UTF-8"),
-    "UTF-16": ("[water]\ndepth = 100.0\n".encode("utf-16"), "is UTF-16 text; TOML files must be UTF-8"),
+                "line 1: byte 0xe9 is not UTF-8 (a binary file?); save it as UTF-8 text"),
+    "UTF-16": ("[water]\ndepth = 100.0\n".encode("utf-16"), "is UTF-16 text; save it as UTF-8"),
 }
 
 
@@ -139,7 +139,7 @@ CLI = {  # name: (arguments after the scenario file, what the one-line error mus
     "demo with one element": (["demo", "--segments", "0"], "tether.segments must be an integer >= 1"),
     "video of an unknown format": (["run", "--video", "clip.txt"], "--video must name an .mp4 or .gif file"),
     "scenario is a folder": (["solve", "{tmp}"], "is a folder; give a scenario .toml file"),
-    "scenario missing": (["run", "{tmp}/nope.toml"], "cannot read the scenario"),
+    "scenario missing": (["run", "{tmp}/nope.toml"], "nope.toml: no such file"),
 }
 
 

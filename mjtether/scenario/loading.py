@@ -8,6 +8,8 @@ from pathlib import Path
 
 import tomllib
 
+from mjtether import _checks
+
 from .config import ConfigError, build, split_index, subsections, table_lists, unknown_key_message
 from .sections import Scenario, ScenarioError
 
@@ -15,7 +17,7 @@ from .sections import Scenario, ScenarioError
 def load_scenario(path=None, *, text: str | None = None, data: dict | None = None, name: str | None = None,
                   overrides=()) -> Scenario:
     """A checked ``Scenario`` from a TOML file ``path`` (or a shipped example's name,
-    ``"default_walker"``: ``mjtether.io.packagedata.shipped_example``), TOML ``text`` or ``data`` (the nested
+    ``"default_walker"``: ``mjtether.files.packagedata.shipped_example``), TOML ``text`` or ``data`` (the nested
     dict TOML would give); with none of them, the defaults. ``overrides``: ``"key.path=value"``
     strings (values in TOML syntax; a bare word is a string), applied before checking, as
     ``mjtether run --set`` does; an item may also be a pair (``"key.path=value"``, the label to
@@ -24,7 +26,7 @@ def load_scenario(path=None, *, text: str | None = None, data: dict | None = Non
     relative ``water.bathymetry`` in a file is taken beside the file; one given in ``overrides``,
     from the working folder."""
     if path is not None and text is None and data is None:
-        from mjtether.io.packagedata import shipped_example
+        from mjtether.files.packagedata import shipped_example
         path = shipped_example(path) or path  # (a shipped example by name: "default_walker")
     if name is None:
         name = str(path) if path is not None else "<text>" if text is not None else "<data>"
@@ -86,22 +88,12 @@ def _blame(key: str, labels: dict) -> str | None:
 
 def _read(name: str, path) -> str:
     """The file's text: UTF-8 as TOML requires (a byte-order mark is allowed); any other
-    encoding is an error that says how to fix it."""
-    p = Path(path)
-    if p.is_dir():
-        raise ScenarioError(f"{name}: is a folder; give a scenario .toml file")
+    encoding, a folder, a missing or huge file is an error that says how to fix it
+    (``_checks.read_text``)."""
     try:
-        raw = p.read_bytes()
-    except OSError as exc:
-        raise ScenarioError(f"{name}: cannot read the scenario ({exc.strerror})") from None
-    if raw.startswith((b"\xff\xfe", b"\xfe\xff")):
-        raise ScenarioError(f"{name}: is UTF-16 text; TOML files must be UTF-8 (save it as UTF-8)")
-    try:
-        return raw.decode("utf-8-sig")
-    except UnicodeDecodeError as exc:
-        line = raw[:exc.start].count(b"\n") + 1
-        raise ScenarioError(f"{name}: line {line}: byte 0x{raw[exc.start]:02x} is not UTF-8; TOML files must be "
-                            "UTF-8 (save it as UTF-8, e.g. iconv -f latin1 -t utf-8)") from None
+        return _checks.read_text(name, path, kind="scenario .toml file")
+    except ValueError as exc:
+        raise ScenarioError(str(exc)) from None
 
 
 def _parse(name: str, text: str) -> dict:
