@@ -55,10 +55,9 @@ observation is the last finite one; reset before stepping again) or the vehicle 
 also holds the station, the distance to it, the vehicle's position, each line's end tensions (N)
 and the time (s).
 
-``render_mode="rgb_array"``: ``render()`` returns a (height, width, 3) uint8 frame from MuJoCo's
-own renderer (``mujoco.Renderer``), a free camera looking at the middle of the system's lines and
-vehicles from far enough to frame them, at the state of the last step's kinematics; the lines are
-drawn thicker than they are (``LINE_COLOURS``), the station as a translucent green sphere.
+``render_mode="rgb_array"``: ``render()`` returns a (height, width, 3) uint8 frame from the video's
+renderer (``mjtether.io.network_view``: every line coloured by tension, the camera framing the
+whole system, its own headless OpenGL context), the station as a translucent green sphere.
 
 Pickling keeps the constructor's keyword arguments, the random generator's state and ``spec``
 (the unpickled environment builds its system again and must be ``reset()``).
@@ -86,8 +85,8 @@ DEFAULT_SYSTEM = "networks/rov_cage_excursion"
 name, so that it is found from any folder)."""
 
 
-LINE_COLOURS = ((0.95, 0.75, 0.1, 1.0), (0.2, 0.8, 0.95, 1.0), (0.95, 0.35, 0.3, 1.0), (0.5, 0.95, 0.4, 1.0))
-"""The lines' colours in rendered frames, in the file's order, repeated."""
+STATION_RADIUS = 0.5
+"""The station's sphere in rendered frames (m)."""
 STATION_RGBA = (0.1, 0.95, 0.2, 0.55)
 """The station's colour in rendered frames (translucent green, as ``TetheredROV-v0``'s target)."""
 RATING_PROBE_S = 5.0
@@ -368,37 +367,14 @@ class TetheredSystemEnv(gym.Env):
             return None
         import mujoco
 
-        r = self.runner
-        m = r.sim.model
-        if self._renderer is None:
-            m.vis.global_.offwidth = max(m.vis.global_.offwidth, self.width)
-            m.vis.global_.offheight = max(m.vis.global_.offheight, self.height)
-            self._renderer = mujoco.Renderer(m, self.height, self.width)
-        pts_lines = [r.line_nodes(n) for n in self.line_names]
-        pts = np.concatenate(pts_lines + [r.sim.data.xpos[b.id][None] for b in r.vehicle_bodies.values()])
-        lo, hi = pts.min(axis=0), pts.max(axis=0)
-        cam = mujoco.MjvCamera()
-        cam.type = mujoco.mjtCamera.mjCAMERA_FREE
-        cam.lookat[:] = 0.5 * (lo + hi)
-        half_fov = math.radians(m.vis.global_.fovy) / 2.0  # (frame the box's diagonal, with a margin)
-        cam.distance = 1.3 * 0.5 * float(np.linalg.norm(hi - lo)) / math.tan(half_fov) + 2.0
-        cam.azimuth, cam.elevation = 90.0, -15.0
-        self._renderer.update_scene(r.sim.data, camera=cam)
-        scn, width = self._renderer.scene, max(0.004 * cam.distance, 0.02)
-        for k, nodes in enumerate(pts_lines):  # (lines a few cm thick vanish at 100 m: drawn thicker)
-            rgba = np.array(LINE_COLOURS[k % len(LINE_COLOURS)], np.float32)
-            for a, b in zip(nodes[:-1], nodes[1:]):
-                if scn.ngeom >= scn.maxgeom:
-                    break
-                g = scn.geoms[scn.ngeom]
-                mujoco.mjv_initGeom(g, mujoco.mjtGeom.mjGEOM_CAPSULE, np.zeros(3), np.zeros(3), np.eye(3).ravel(), rgba)
-                mujoco.mjv_connector(g, mujoco.mjtGeom.mjGEOM_CAPSULE, width, a, b)
-                scn.ngeom += 1
-        if scn.ngeom < scn.maxgeom:  # the station: a translucent green sphere
-            size = np.full(3, 5.0 * width)
-            mujoco.mjv_initGeom(scn.geoms[scn.ngeom], mujoco.mjtGeom.mjGEOM_SPHERE, size, self.station_now,
-                                np.eye(3).ravel(), np.array(STATION_RGBA, np.float32))
-            scn.ngeom += 1
+        from mjtether.io.network_view import NetworkView
+        from mjtether.io.render import FrameRenderer, Marker, VideoSettings
+
+        if self._renderer is None:  # (the video's renderer: it makes its own headless OpenGL context)
+            self._renderer = FrameRenderer(NetworkView(self.runner),
+                                           VideoSettings(width=self.width, height=self.height, camera="track"))
+        self._renderer.markers = [Marker(tuple(self.station_now), (STATION_RADIUS,) * 3, STATION_RGBA,
+                                         mujoco.mjtGeom.mjGEOM_SPHERE)]
         return self._renderer.render().copy()
 
     def __getstate__(self) -> dict:

@@ -34,8 +34,8 @@ NODE_SHARE = 0.5
 the rest (the two together are the line's: neither inertia nor weight is counted twice). Half:
 an end node keeping 0.1 % bounced off the cell edges of a bathymetry grid, its seabed contact
 holding up the point's weight through the connect (MoorDyn's seafloor.txt: a 19.5 mm hop, 10 %
-still 10 mm; at half, under 1 mm, as before the move), while MoorDyn-C's networks and the
-sliding line's Coulomb answer are the same at 0.1 % and at half."""
+still 10 mm; at half, under 1 mm, as before the move), while the MoorDyn-C comparisons of the
+networks and the sliding line's Coulomb test hold at half as at 0.1 %."""
 
 
 def parse_end_mass_to(value, start, end, *, drum: bool) -> tuple:

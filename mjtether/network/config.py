@@ -33,6 +33,9 @@ BODY_KINDS = ("fixed", "coupled", "free", "pinned")
 STARTS = ("steady", "as_written")
 DEFAULT_GRAVITY = 9.80665
 """MoorDyn-C's default g (m/s^2)."""
+MAX_LINES = 500
+"""The most lines a network takes (building one of 200 lines of 20 elements took 12 s on this
+project's CI machine, growing faster than the count)."""
 MAX_HELD_STRAIN = 1.0
 """The largest stretch (unstretched length's share) a line held at both ends may be written with:
 no mooring material holds 100 % (chain breaks near 2 %, polyester near 15 %, nylon near 30 %),
@@ -324,6 +327,8 @@ class Network:
     notes: tuple = ()
     walkers: dict = field(default_factory=dict)
     current: object = None
+    max_wall_hours: float = 6.0
+    max_output_gb: float = 4.0
 
     def __post_init__(self):
         _checks.positive("water.depth", self.depth, "m")
@@ -332,7 +337,12 @@ class Network:
         _checks.non_negative("water.seabed_stiffness", self.seabed_stiffness)
         _checks.non_negative("water.seabed_damping", self.seabed_damping)
         _checks.non_negative("water.seabed_friction", self.seabed_friction)
-        _checks.positive("simulation.duration", self.duration, "s")
+        _checks.in_range("simulation.duration", self.duration, 1e-3, 1e6, "s")
+        _checks.in_range("simulation.max_wall_hours", self.max_wall_hours, 0.01, 1000.0, "h")
+        _checks.in_range("simulation.max_output_gb", self.max_output_gb, 0.01, 1000.0, "GB")
+        if len(self.lines) > MAX_LINES:
+            raise NetworkError(f"lines: {len(self.lines)} lines; a network takes at most {MAX_LINES} (building 200 "
+                               "lines of 20 elements takes 12 s and grows faster than the count; split the system)")
         _checks.positive("simulation.output_interval", self.output_interval, "s")
         _checks.in_range("simulation.settle", self.settle, 0.0, 3600.0, "s")
         if self.start not in STARTS:
@@ -443,7 +453,8 @@ class Network:
 _SECTIONS = {"water": {"depth", "rho", "gravity", "seabed_stiffness", "seabed_damping", "seabed_friction",
                        "current_depths", "current_speeds", "current_headings_deg", "bathymetry",
                        "bathymetry_spacing_m", "bathymetry_origin_m"},
-             "simulation": {"duration", "timestep", "output_interval", "settle", "start"},
+             "simulation": {"duration", "timestep", "output_interval", "settle", "start", "max_wall_hours",
+                            "max_output_gb"},
              "line_types": None, "points": None, "bodies": None, "vehicles": None, "walkers": None, "lines": None}
 WATER_TABLES = ("current", "density")
 """``[water.current]`` and ``[water.density]``: the water written as a scenario writes it

@@ -25,7 +25,8 @@ from .config import Network, NetworkError
 
 NETWORK_KEYS = {
     "simulation": {"duration": ("float", "s"), "output_interval": ("float", "s"), "settle": ("float", "s"),
-                   "start": ("str", ""), "timestep": ("timestep", "s")},
+                   "start": ("str", ""), "timestep": ("timestep", "s"), "max_wall_hours": ("float", "h"),
+                   "max_output_gb": ("float", "GB")},
     "water": {"depth": ("float", "m"), "gravity": ("float", "m/s^2"), "rho": ("float", "kg/m^3"),
               "seabed_damping": ("float", "Pa s/m"), "seabed_friction": ("float", ""),
               "seabed_stiffness": ("float", "Pa/m")},

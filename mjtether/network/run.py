@@ -6,7 +6,7 @@ A usually the anchor, B the fairlead). A free point is a body with a free joint 
 point's mass, buoyancy (its volume, over its waterline band where it pierces the surface:
 ``config.waterline_height``), drag (CdA on each of its axes) and added mass (Ca rho V), and
 the lumped masses of its lines' end nodes (the sum over the line ends there, with their real
-weight): each of those nodes keeps 0.1 % of its mass and its loads (``cable.ends``), so that a
+weight): each of those nodes keeps half its mass (``cable.ends.NODE_SHARE``) and its loads, so that a
 free line end moves with the line's own inertia (a 10-segment line of 240 kg sliding on the
 seabed as 240 kg, not as the 292 kg the drum's conditioning armature at its ends and a point as
 heavy as its end node made it), and the point's connects are as well conditioned as the
@@ -54,7 +54,7 @@ from mjtether.scenario.controllers import VehiclePilot
 from mjtether.simulation import Simulation, SimulationDiverged
 from mjtether.vehicles.files import build_vehicle
 
-from . import statics
+from . import cost, statics
 from . import walkers as walker_parts
 from .config import Network, to_dict, waterline_height
 
@@ -276,6 +276,7 @@ def build(net: Network) -> NetworkRun:
         positions, note, poses = statics.equilibrium(net, start_positions(net), bodies=True)
     states = {ln.name: statics.line_ends(net, ln, positions[ln.a], positions[ln.b]) for ln in net.lines}
     dt = net.timestep if net.timestep is not None else timestep_for(net, states, water)
+    cost.check(net, dt)
     spec = mujoco.MjSpec()
     spec.option.timestep = dt
     spec.option.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST
