@@ -231,9 +231,7 @@ class TetheredSystemEnv(gym.Env):
         r.pilots[self.vehicle] = self.pilot
         r.sim.data.ctrl[acts] = 0.0
         self.runner = r
-        self._start = r.sim.save_state()
-        # (``save_state`` leaves out each drum's payout rate, which its drum element's target holds)
-        self._rates = {k: bt.drum.payout_rate for k, bt in r.sim.tethers.items()}
+        self._start = r.sim.save_state()  # (each drum's payout with it: ``Drum.payout_state``)
         # another vehicle's autopilot keeps integrals of its own, which a restore does not reset
         self._restorable = len(r.pilots) == 1
 
@@ -258,8 +256,6 @@ class TetheredSystemEnv(gym.Env):
             self._build()
             return
         sim = self.runner.sim
-        for k, bt in sim.tethers.items():
-            bt.drum.payout_rate = self._rates[k]
         sim.restore_state(self._start)
         self.pilot.thrust[:] = 0.0
         # twice: the first brings the added mass's orientation, which the force providers set in the

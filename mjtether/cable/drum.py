@@ -291,14 +291,17 @@ class Drum:
 
     # ----------------------------------------------------------------- payout
 
-    def payout_state(self) -> tuple[int, float]:
-        """(first deployed node, drum element rest length in m): with MuJoCo's state (qpos,
-        qvel, eq_active) this is everything needed to restore the payout exactly."""
-        return self.first, self.drum_rest
+    def payout_state(self) -> tuple[int, float, float]:
+        """(first deployed node, drum element rest length in m, payout rate in m/s): with MuJoCo's
+        state (qpos, qvel, eq_active) this is everything needed to restore the payout exactly."""
+        return self.first, self.drum_rest, self.payout_rate
 
     def restore_payout(self, state) -> None:
-        """Restore a ``payout_state()`` (set MuJoCo's own state first, then call this)."""
-        first, drum = state
+        """Restore a ``payout_state()`` (set MuJoCo's own state first, then call this; a state of
+        two items, from before the rate was kept, leaves the rate as it is)."""
+        first, drum, *rate = state
+        if rate:
+            self.payout_rate = float(rate[0])
         self.first, self.drum_rest = int(first), float(drum)
         self.relayout()
 
