@@ -332,7 +332,7 @@ def build(net: Network) -> NetworkRun:
     for ln in net.lines:
         lt = net.line_types[ln.type]
         ends = [_support(net, positions, pid) for pid in (ln.b, ln.a)]
-        nodes = states[ln.name].nodes[::-1]
+        nodes = _on_grid(net, states[ln.name].nodes[::-1])
         tms[ln.name] = builder.add_tether(
             spec, lt.tether(ln.length, ln.segments), ends[0], ends[1], water=water, nodes=nodes, name=ln.name,
             seabed_friction=net.seabed_friction, seabed_stiffness=net.seabed_stiffness or None,
@@ -425,6 +425,20 @@ def _add_seabeds(spec: mujoco.MjSpec, net: Network, water: wm.WaterColumn) -> di
         bits[d] = 4 << i
         seabed(name=f"seabed/d{i}", lower=d / 2, bits=(0, bits[d]), rgba=(0.0, 0.0, 0.0, 0.0))
     return bits
+
+
+def _on_grid(net: Network, nodes: np.ndarray) -> np.ndarray:
+    """``nodes`` (m, world) with those below a bathymetry grid lifted onto it (their axis on it,
+    where a network's lines rest: ``_add_seabeds``): the statics lay a line on a level seabed at
+    its low end's depth, which on a slope puts its nodes uphill inside the grid (a line laid down
+    a 10 deg slope was thrown out and folded, one end running 5 m uphill); on a plane seabed
+    ``nodes`` as they are."""
+    grid = net.grid
+    if grid is None:
+        return nodes
+    out = np.array(nodes, float)
+    out[:, 2] = np.maximum(out[:, 2], [grid.height(x, y) for x, y in out[:, :2]])
+    return out
 
 
 def _support(net: Network, positions: dict, pid: str):
