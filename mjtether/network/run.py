@@ -428,16 +428,13 @@ def _add_seabeds(spec: mujoco.MjSpec, net: Network, water: wm.WaterColumn) -> di
 
 
 def _on_grid(net: Network, nodes: np.ndarray) -> np.ndarray:
-    """``nodes`` (m, world) with those below a bathymetry grid lifted onto it (their axis on it,
-    where a network's lines rest: ``_add_seabeds``): the statics lay a line on a level seabed at
-    its low end's depth, which on a slope puts its nodes uphill inside the grid (a line laid down
-    a 10 deg slope was thrown out and folded, one end running 5 m uphill); on a plane seabed
-    ``nodes`` as they are."""
-    grid = net.grid
-    if grid is None:
+    """``nodes`` (m, world), those below a bathymetry grid lifted onto it (axis on it, as lines
+    rest): the statics lay a line on a level seabed at its low end's depth, which put a slope's
+    uphill nodes inside it (a line laid down 10 deg was thrown out and folded)."""
+    if net.grid is None:
         return nodes
     out = np.array(nodes, float)
-    out[:, 2] = np.maximum(out[:, 2], [grid.height(x, y) for x, y in out[:, :2]])
+    out[:, 2] = np.maximum(out[:, 2], [net.grid.height(x, y) for x, y in out[:, :2]])
     return out
 
 
