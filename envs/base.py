@@ -160,7 +160,22 @@ def _finite_action(action, n: int) -> np.ndarray:
     return np.clip(a, -1.0, 1.0)
 
 
-class TetherEnv(gym.Env):
+class PickledByKeywords:
+    """Pickling for an environment whose state is its MuJoCo run: it keeps the constructor's
+    keyword arguments (``_init_kwargs``), the random generator's state and ``spec``; the
+    unpickled environment builds its run again (and must be ``reset()``)."""
+
+    def __getstate__(self) -> dict:
+        return {"kwargs": dict(self._init_kwargs), "np_random": self._np_random,
+                "np_random_seed": self._np_random_seed, "spec": self.spec}
+
+    def __setstate__(self, state: dict) -> None:
+        type(self).__init__(self, **state["kwargs"])
+        self._np_random, self._np_random_seed = state["np_random"], state["np_random_seed"]
+        self.spec = state["spec"]
+
+
+class TetherEnv(PickledByKeywords, gym.Env):
     """Base class; subclasses define ``Config`` (a ``TetherEnvConfig`` with their own keys),
     ``_robot_section``, the spaces, ``_get_obs`` and the reward.
 
@@ -235,17 +250,6 @@ class TetherEnv(gym.Env):
         self._viewer = None  # render_mode "human": MuJoCo's passive viewer of the current runner
         self._viewer_runner = None
         self._last_frame = 0.0  # wall-clock time of the last "human" frame
-
-    # ---------------------------------------------------------------- pickling
-
-    def __getstate__(self) -> dict:
-        return {"kwargs": dict(self._init_kwargs), "np_random": self._np_random,
-                "np_random_seed": self._np_random_seed, "spec": self.spec}
-
-    def __setstate__(self, state: dict) -> None:
-        type(self).__init__(self, **state["kwargs"])
-        self._np_random, self._np_random_seed = state["np_random"], state["np_random_seed"]
-        self.spec = state["spec"]
 
     @property
     def dt(self) -> float:

@@ -78,7 +78,7 @@ from mjtether.network import run as network_run
 from mjtether.scenario.config import ConfigError, Section, param
 from mjtether.simulation import SimulationDiverged
 
-from .base import _finite_action, kwargs_table
+from .base import PickledByKeywords, _finite_action, kwargs_table
 
 DEFAULT_SYSTEM = "networks/rov_cage_excursion"
 """The default system: the shipped ``examples/networks/rov_cage_excursion.toml`` (by its shipped
@@ -154,7 +154,7 @@ class AgentPilot:
         run.sim.data.ctrl[self.actuators] = self.thrust
 
 
-class TetheredSystemEnv(gym.Env):
+class TetheredSystemEnv(PickledByKeywords, gym.Env):
     """See the module docstring."""
 
     metadata = {"render_modes": ["rgb_array"], "render_fps": 10}
@@ -372,15 +372,6 @@ class TetheredSystemEnv(gym.Env):
         self._renderer.markers = [Marker(tuple(self.station_now), (STATION_RADIUS,) * 3, STATION_RGBA,
                                          mujoco.mjtGeom.mjGEOM_SPHERE)]
         return self._renderer.render().copy()
-
-    def __getstate__(self) -> dict:
-        return {"kwargs": dict(self._init_kwargs), "np_random": self._np_random,
-                "np_random_seed": self._np_random_seed, "spec": self.spec}
-
-    def __setstate__(self, state: dict) -> None:
-        type(self).__init__(self, **state["kwargs"])
-        self._np_random, self._np_random_seed = state["np_random"], state["np_random_seed"]
-        self.spec = state["spec"]
 
     def _close_sim(self) -> None:
         if self._renderer is not None:

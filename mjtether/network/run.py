@@ -68,16 +68,11 @@ stability limits allowed it; at 5 ms they settle as at 2 ms, 0.01 %.)"""
 def water_of(net: Network) -> wm.WaterColumn:
     """The network's water column (its current's headings from degrees to radians): a
     ``[water.current]`` made into its ``physics.water`` profile by the scenario's own code
-    (``scenario.scene.water_from``), or the ``current_depths`` table."""
+    (``scenario.scene.current_from``), or the ``current_depths`` table."""
     current = None
     if net.current is not None:
-        from types import SimpleNamespace
-
-        from mjtether.scenario.scene import water_from
-        from mjtether.scenario.sections import Density
-        sc = SimpleNamespace(water=SimpleNamespace(depth=net.depth, gravity=net.gravity, current=net.current,
-                                                   density=Density(rho=net.rho)))
-        current = water_from(sc).current
+        from mjtether.scenario.scene import current_from
+        current = current_from(net.current, net.depth)
     elif net.current_depths:
         current = wm.TabulatedCurrent(net.current_depths, net.current_speeds,
                                       [math.radians(h) for h in net.current_headings_deg])

@@ -45,26 +45,31 @@ VEHICLE = "vehicle"
 
 def water_from(sc: Scenario) -> wm.WaterColumn:
     """The scenario's water column (headings from degrees to radians)."""
-    d, c = sc.water.density, sc.water.current
+    d = sc.water.density
     if d.type == "constant":
         density = wm.ConstantDensity(d.rho)
     elif d.type == "linear":
         density = wm.LinearDensity(d.rho_surface, d.rho_ref, d.depth_ref)
     else:
         density = wm.TabulatedDensity(d.depths, d.values)
+    return wm.WaterColumn(depth=sc.water.depth, density=density, current=current_from(sc.water.current, sc.water.depth),
+                          gravity=sc.water.gravity)
+
+
+def current_from(c, depth: float):
+    """The ``physics.water`` current of a ``[water.current]`` section ``c`` in water ``depth`` m
+    deep (headings from degrees to radians): a scenario's, or a network's."""
     heading = math.radians(c.heading_deg)
     if c.type == "constant":
-        current = wm.ConstantCurrent(c.speed, heading)
-    elif c.type == "linear":
-        current = wm.LinearCurrent(c.surface_speed, c.bottom_speed, c.bottom_depth, heading=heading)
-    elif c.type == "exponential":
-        current = wm.ExponentialCurrent(c.surface_speed, c.decay_depth, heading)
-    elif c.type == "power":
-        current = wm.PowerLawCurrent(c.surface_speed, sc.water.depth, c.exponent, heading)
-    else:
-        headings = None if c.headings_deg is None else [math.radians(h) for h in c.headings_deg]
-        current = wm.TabulatedCurrent(c.depths, c.speeds, headings)
-    return wm.WaterColumn(depth=sc.water.depth, density=density, current=current, gravity=sc.water.gravity)
+        return wm.ConstantCurrent(c.speed, heading)
+    if c.type == "linear":
+        return wm.LinearCurrent(c.surface_speed, c.bottom_speed, c.bottom_depth, heading=heading)
+    if c.type == "exponential":
+        return wm.ExponentialCurrent(c.surface_speed, c.decay_depth, heading)
+    if c.type == "power":
+        return wm.PowerLawCurrent(c.surface_speed, depth, c.exponent, heading)
+    headings = None if c.headings_deg is None else [math.radians(h) for h in c.headings_deg]
+    return wm.TabulatedCurrent(c.depths, c.speeds, headings)
 
 
 def tether_from(sc: Scenario) -> TetherSpec:

@@ -4,7 +4,6 @@ element's shortening) is reported as ``compression`` (``lines.npz``'s ``lineteth
 equalities ``tether/element<j>``, read here without mjtether's readouts); tension stays the pull
 alone, never negative."""
 
-from pathlib import Path
 
 import mujoco
 import numpy as np

@@ -15,18 +15,7 @@ from mjtether.io.replay import NetworkReplay, ReplayError, SavedNetwork, replay
 from mjtether.network import from_dict
 from mjtether.network import run as nrun
 
-NET = {  # as in test_network_render: two lines, anchor -> free float -> fixed fairlead; 1 s at 1 ms
-    "water": {"depth": 50.0, "rho": 1025.0, "current_depths": [0.0, 50.0], "current_speeds": [0.8, 0.2],
-              "current_headings_deg": [90.0, 90.0]},
-    "simulation": {"duration": 1.0, "output_interval": 0.1, "timestep": 0.001},
-    "line_types": {"rope": {"diameter": 0.05, "mass_per_length": 5.0, "EA": 1e7, "cd_normal": 1.2}},
-    "points": {"anchor": {"kind": "fixed", "position": [-60.0, 0.0, -50.0]},
-               "float": {"kind": "free", "position": [0.0, 0.0, -20.0], "mass": 50.0, "volume": 0.5,
-                         "cd_area": 0.5, "ca": 0.5},
-               "fair": {"kind": "fixed", "position": [40.0, 0.0, -2.0]}},
-    "lines": [{"name": "lower", "type": "rope", "a": "anchor", "b": "float", "length": 75.0, "segments": 8},
-              {"name": "upper", "type": "rope", "a": "float", "b": "fair", "length": 48.0, "segments": 8}],
-}
+from test_network_render import NET  # (the same two lines: anchor -> free float -> fixed fairlead; 1 s)
 LIVE = VideoSettings(160, 120, 10, "side")
 
 
