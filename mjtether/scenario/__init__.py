@@ -7,7 +7,7 @@
 * ``start``: the walker's stand, the tether's steady start and the pre-roll;
 * ``controllers``: gait, ship, winch, vehicle pilots and manoeuvres;
 * ``readouts``: named readouts of a running scenario (``run.named``) and the record's columns;
-* ``runner``: ``ScenarioRun`` (a scenario as a stepping simulation) and ``run``.
+* ``runner``: ``ScenarioRun`` (a scenario as a stepping simulation); ``recording``: its run loop, ``run``.
 
 Imports run one way: this package uses the cable, the physics, the vehicles, the walker and the
 simulation; nothing below it imports it. ``mjtether.scenario`` offers every name the flat
