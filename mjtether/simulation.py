@@ -3,12 +3,15 @@
 ``Simulation`` compiles an ``MjSpec`` that ``add_tether`` and ``add_body_hydro`` prepared,
 registers its force providers with the process-wide passive callback
 (``mjtether.physics.dispatch``), steps with divergence detection, and removes its providers on
-``close()`` (or at the end of a ``with`` block).
+``close()`` (or at the end of a ``with`` block). ``drive`` is the run loop of every system
+built on one (a scenario's ``ScenarioRun``, a network's ``NetworkRun``): it steps it to its end,
+sampling it as it goes.
 """
 
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import mujoco
 import numpy as np
@@ -344,3 +347,64 @@ class Simulation:
             self.close()
         except Exception:  # noqa: BLE001 - interpreter shutdown
             pass
+
+
+class Driven(NamedTuple):
+    """What ``drive`` did: the rows sampled (samples, columns) and the steps taken."""
+
+    rows: np.ndarray
+    steps: int
+
+
+def drive(advance, total_steps: int, every: int, on_sample, *, clock, watches=(), video=None, progress=None,
+          names=None) -> Driven:
+    """The run loop of every system: step it ``total_steps`` times by ``advance(k)`` (k steps),
+    sampling it by ``on_sample()`` (it records what its system keeps and returns the row of its
+    time series) at the start, after every ``every`` steps and at the end: a run whose length is
+    not a whole number of ``every`` ends with a shorter block and is sampled there, so that its
+    results always hold its last state. At each sample every ``watches`` callable is called (all
+    of them; each keeps its own events and why it stopped); where one returns True the run stops
+    there, at the start too. ``video`` (``due(t)``, ``capture()``, as ``io.render.VideoRecorder``;
+    finishing or aborting it is the caller's) takes a frame after the first step on or after each
+    frame's time; the run then steps one step at a time, which gives the same bits as the blocks
+    (``Simulation.step``). ``clock()`` is the simulated time (s); ``progress(done, total_steps)``
+    is called at each sample after the first. Raises ``SimulationDiverged`` at the first sample
+    with a non-finite value (naming its column, from ``names``, where given), as for any other
+    divergence."""
+    rows = [_finite(on_sample(), clock(), names)]
+    stop = _stops(watches)
+    if video is not None and video.due(clock()):
+        video.capture()
+    done = 0
+    while done < total_steps and not stop:
+        k = min(every, total_steps - done)
+        if video is None:
+            advance(k)
+        else:
+            for _ in range(k):
+                advance(1)
+                if video.due(clock()):
+                    video.capture()
+        done += k
+        rows.append(_finite(on_sample(), clock(), names))
+        stop = _stops(watches)
+        if progress is not None:
+            progress(done, total_steps)
+    return Driven(np.array(rows), done)
+
+
+def _stops(watches) -> bool:
+    """Call every watch (none left out when an earlier one stops the run); True if one did."""
+    return any([watch() for watch in watches])
+
+
+def _finite(row, t: float, names):
+    """``row`` if every value in it is finite, else ``SimulationDiverged`` naming the first that
+    is not (its column in ``names``, else its index) and the time ``t`` (s)."""
+    bad = np.flatnonzero(~np.isfinite(np.asarray(row, dtype=float)))
+    if bad.size:
+        i = int(bad[0])
+        what = f"column {names[i]!r}" if names is not None and i < len(names) else f"column {i}"
+        raise SimulationDiverged(f"simulation diverged at t = {t:.4f} s: a recorded value became non-finite "
+                                 f"({what} = {np.asarray(row, dtype=float)[i]}, the first of {bad.size})")
+    return row

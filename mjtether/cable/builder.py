@@ -329,10 +329,13 @@ class TetherModel:
     connects: dict = field(default_factory=dict)  # "end" -> equality name; "start": one per node
     max_length: float = 0.0
     seabed_friction: float | None = None  # Coulomb coefficient on the seabed; None: no contact
-    makeup: LineMakeup | None = None  # the sections and point loads, for a non-uniform line
+    line: LineMakeup | None = None  # the line: its sections and point loads (a uniform tether: its one section)
     userdata_adr: int = -1  # where the nodes' stick points (3 per node) start in MuJoCo's userdata
     added_mass: str = "isotropic"  # or "normal": see add_tether
     end_mass_to: tuple = ()  # the ends whose node's mass its support's body carries (see add_tether)
+
+    makeup = property(lambda self: None if self.line.is_uniform else self.line,
+                      doc="The line where it is not uniform, else None (older callers; new code reads ``line``).")
 
     @property
     def flex(self) -> str:
@@ -371,13 +374,17 @@ def anchor_position(spec: mujoco.MjSpec, anchor: Anchor) -> np.ndarray | None:
 
 
 def _reference_spec(makeup: LineMakeup) -> TetherSpec:
-    """A uniform TetherSpec of a make-up's length and element count, for what the builder sizes
-    once (the flex's radius: the widest section's; the initial masses, which ``BoundTether``
-    sets per element and node)."""
+    """The TetherSpec of a line make-up: a uniform line's own (``LineMakeup.tether``); for
+    another, a uniform one of its length and element count, for what the builder sizes once (the
+    flex's radius: the widest section's; the initial masses, which ``BoundTether`` sets per
+    element and node), with the make-up's axial damping ratio and added-mass mode."""
+    if makeup.is_uniform:
+        return makeup.tether
     d = makeup.element_diameter
     mu = makeup.element_mass_per_length
     return TetherSpec(length=makeup.length, segments=makeup.segments, diameter=float(d.max()),
-                      mass_per_length=float(np.average(mu, weights=makeup.element_length)))
+                      mass_per_length=float(np.average(mu, weights=makeup.element_length)),
+                      axial_damping_ratio=makeup.axial_damping_ratio, added_mass=makeup.added_mass)
 
 
 CONTACT_B_DT = 1.0
@@ -504,7 +511,7 @@ def cable_parts(n: int, first: int, diameter: float, rgba: tuple, solref: tuple 
 
 def add_tether(
     spec: mujoco.MjSpec,
-    tether: TetherSpec,
+    tether: TetherSpec | LineMakeup,
     start: Anchor,
     end: Anchor,
     *,
@@ -525,6 +532,7 @@ def add_tether(
     """Add ``tether`` to ``spec`` between ``start`` (the ship end, where its drum is) and ``end``.
 
     Args:
+        tether: a ``TetherSpec``, or a ``LineMakeup`` (a uniform one is built as its ``tether``).
         spec: the model to add to; its ``option.timestep`` must already be set.
         water: sets the density of the added mass (default: 1025 kg/m^3 everywhere).
         nodes: initial positions (m) of the N+1 deployed nodes, shape (N+1, 3), the first at
@@ -540,13 +548,15 @@ def add_tether(
             most 1/dt (``CONTACT_B_DT``: more would throw landing nodes back out);
             ``None`` (default): MuJoCo's soft contact with a time constant of two steps.
         max_length: the longest deployed length (m) a winch may pay out to; cable beyond
-            ``tether.length`` waits on the drum at ``start`` (see the module docstring).
+            ``tether.length`` waits on the drum at ``start`` (see the module docstring); a
+            uniform line only (``LineMakeup.pays_out``: a make-up's length is fixed).
             Reel-in needs no allowance.
         end_at: where the end support will be when the simulation starts (m, world), if not
             where ``spec`` puts it (e.g. a robot whose joints are set to a standing pose after
             compiling); the last node is placed there.
         added_mass: ``"isotropic"`` or ``"normal"`` (see ``TetherSpec.added_mass`` and the module
-            docstring); default: the tether's (``"isotropic"`` for a line make-up).
+            docstring); default: the line's (``LineMakeup.added_mass``: a TetherSpec's own,
+            ``"isotropic"`` for a make-up that does not say).
         start_at: as ``end_at``, for the start support (a vessel turned after compiling).
         contact_bit: the contype of the cable's contact, which touches the geoms with that bit
             in their conaffinity (default: the seabed of ``add_seabed``). A cable rests with its
@@ -568,17 +578,17 @@ def add_tether(
                          f"mujoco.MjSpec.from_file(path)), got {type(spec).__name__} {spec!r:.40}")
     if seabed_friction is not None:
         _checks.non_negative("seabed_friction", seabed_friction)
-    makeup = None
-    if isinstance(tether, LineMakeup):  # sections and point loads (see mjtether.cable.makeup)
-        makeup, tether = tether, _reference_spec(tether)
-        if max_length is not None and max_length > makeup.length * (1 + 1e-9):
-            raise ValueError("max_length: payout of a line make-up is not supported yet (its length is fixed)")
+    line = LineMakeup.of(tether)  # (a uniform tether: its one section; see mjtether.cable.makeup)
+    if not isinstance(tether, TetherSpec):
+        tether = _reference_spec(line)
+    if not line.pays_out:  # sections and point loads: a fixed length, not evenly spaced nodes
+        if max_length is not None and max_length > line.length * (1 + 1e-9):
+            raise ValueError("max_length: payout of a line make-up is not supported yet (its length is fixed; "
+                             "a uniform line, one section without loads, pays out)")
         if nodes is None:
             raise ValueError("nodes: give the start shape of a line make-up (e.g. steady_state(makeup, ...).nodes)")
-    if not isinstance(tether, TetherSpec):
-        raise ValueError(f"tether must be a TetherSpec or a LineMakeup, got {type(tether).__name__}")
     if added_mass is None:
-        added_mass = tether.added_mass if makeup is None else "isotropic"
+        added_mass = line.added_mass
     if added_mass not in ADDED_MASS:
         raise ValueError(f"added_mass must be one of {', '.join(ADDED_MASS)}, got {added_mass!r}")
     for label, a in (("start", start), ("end", end)):
@@ -649,7 +659,7 @@ def add_tether(
     tm = TetherModel(name=name, spec=tether, start=start, end=end, node_bodies=body_names, n=n, first=first,
                      nominal_length=l0, initial_nodes=all_nodes,
                      max_length=float(max(L, max_length or 0.0)), seabed_friction=seabed_friction,
-                     makeup=makeup, added_mass=added_mass)
+                     line=line, added_mass=added_mass)
     tm.end_mass_to = ends.parse_end_mass_to(end_mass_to, start, end, drum=n > N)
     if seabed_friction is not None:  # the nodes' stick points on the seabed (see mjtether.cable.seabed)
         tm.userdata_adr = spec.nuserdata

@@ -63,15 +63,15 @@ def parse_end_mass_to(value, start, end, *, drum: bool) -> tuple:
 
 
 def lumped_end_mass(tether, side: str) -> float:
-    """The lumped mass (kg) of the ``side`` end node of ``tether`` (a ``TetherSpec``, not paying
-    out at that end, or a ``LineMakeup``): half its element's, with a make-up's point load."""
+    """The lumped mass (kg) of the ``side`` end node of ``tether`` (a ``LineMakeup``, or a
+    ``TetherSpec``: its one section), not paying out at that end: half its element's, with its
+    point load there."""
     from .makeup import LineMakeup
     if side not in SIDES:
         raise ValueError(f"side must be 'start' or 'end', got {side!r}")
-    if isinstance(tether, LineMakeup):
-        k = 0 if side == "start" else -1
-        return float(0.5 * tether.element_mass_per_length[k] * tether.element_length[k] + tether.node_mass[k])
-    return 0.5 * tether.mu * tether.segment_length
+    line = LineMakeup.of(tether)
+    k = 0 if side == "start" else -1
+    return float(0.5 * line.element_mass_per_length[k] * line.element_length[k] + line.node_mass[k])
 
 
 def moved_mass(tether, side: str) -> float:
@@ -86,7 +86,7 @@ def moved_weight(bt, side: str) -> np.ndarray:
     support, the node's weight in."""
     if side not in bt.tm.end_mass_to:
         return np.zeros(3)
-    return moved_mass(bt.tm.makeup or bt.tm.spec, side) * np.asarray(bt.model.opt.gravity, float)
+    return moved_mass(bt.tm.line, side) * np.asarray(bt.model.opt.gravity, float)
 
 
 def move_end_masses(bt, inertia: dict) -> None:
@@ -102,19 +102,19 @@ def move_end_masses(bt, inertia: dict) -> None:
     for side in tm.end_mass_to:
         i = L.n if side == "end" else dr.first
         j = i - 1 if side == "end" else i  # its element
-        lumped = lumped_end_mass(tm.makeup or tm.spec, side)
+        lumped = lumped_end_mass(tm.line, side)
         now = float(m.body_mass[L.bids[i]])
         if not (math.isclose(now, lumped, rel_tol=1e-9) or math.isclose(now, NODE_SHARE * lumped, rel_tol=1e-9)):
             raise RuntimeError(f"tether {tm.name!r}: its {side} node weighs {now:g} kg, not its lumped {lumped:g} kg")
         normal = 0.5 * float(dr.added_per_m[j]) * float(dr.rest[j])  # (its half of its element's added mass)
-        iso = (float(dr.node_added[i]) if L.makeup is not None else 0.0) + (normal if L.normal_ten is None else 0.0)
+        iso = float(dr.node_added[i]) + (normal if L.normal_ten is None else 0.0)  # (its point load's: 0 if none)
         iso = max(iso, 1e-9 * dr.i_ref)
         m.body_mass[L.bids[i]] = NODE_SHARE * lumped
         m.dof_armature[L.dof0 + 3 * i:L.dof0 + 3 * i + 3] = iso
         dr.inertia[i] = NODE_SHARE * lumped + iso + float(inertia[side])
         inv = 1.0 / float(dr.inertia[j]) + 1.0 / float(dr.inertia[j + 1])
-        EA = L.spec.EA if L.makeup is None else float(dr.EA[j])
-        S, B, d = axial_scalar(None if EA is None or math.isinf(EA) else EA, float(dr.rest[j]), inv,
+        EA = float(dr.EA[j])  # (inf: inextensible)
+        S, B, d = axial_scalar(None if math.isinf(EA) else EA, float(dr.rest[j]), inv,
                                m.opt.timestep, L.spec.axial_damping_ratio)
         e = L.eq0 + j
         m.tendon_invweight0[L.tadr + j] = inv

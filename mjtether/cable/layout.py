@@ -15,7 +15,6 @@ import numpy as np
 from mjtether.physics.water import WaterColumn
 
 from .builder import TetherModel
-from .makeup import LineMakeup
 
 _ROWS_OF = {int(mujoco.mjtEq.mjEQ_CONNECT): 3, int(mujoco.mjtEq.mjEQ_WELD): 6, int(mujoco.mjtEq.mjEQ_JOINT): 1,
             int(mujoco.mjtEq.mjEQ_TENDON): 1}
@@ -36,13 +35,13 @@ class CableLayout:
     where the NumPy kernels run.
 
     The line is always a ``makeup.LineMakeup`` (``line``, the deployed elements at the start; a
-    uniform ``TetherSpec`` is its one-section make-up; ``makeup`` is the make-up as given, None
-    for a uniform tether); ``element(a)`` and ``node(a)`` extend its per-element and per-node
-    arrays over the ``tm.first`` elements and nodes waiting on the drum (more of its first
-    section, no point loads), and ``nominal`` is every element's unstretched length (m).
-    ``pays_out``: the drum pays out and takes back (a uniform tether; a make-up's length is
-    fixed, see ``builder.add_tether``), lumping the masses with its one mass per length in the
-    scalar arithmetic of ``Drum.update_drum``.
+    uniform ``TetherSpec`` is its one-section make-up; ``makeup`` is ``tm.makeup``, None for a
+    uniform line, for the parts that still read it so); ``element(a)`` and ``node(a)`` extend
+    its per-element and per-node arrays over the ``tm.first`` elements and nodes waiting on the
+    drum (more of its first section, no point loads), and ``nominal`` is every element's
+    unstretched length (m). ``pays_out`` (``LineMakeup.pays_out``): the drum pays out and takes
+    back (a uniform line; a make-up's length is fixed, see ``builder.add_tether``), lumping the
+    masses with its one mass per length in the scalar arithmetic of ``Drum.update_drum``.
     """
 
     def __init__(self, tm: TetherModel, model: mujoco.MjModel, data: mujoco.MjData, water: WaterColumn):
@@ -53,9 +52,9 @@ class CableLayout:
         self.n = n = tm.n
         self.l0 = tm.nominal_length
         self.max_length = tm.max_length
-        self.makeup = tm.makeup  # as given: None for a uniform tether (see ``line``)
-        self.pays_out = tm.makeup is None  # (the builder allows payout for a uniform tether only)
-        self.line = tm.makeup or LineMakeup.uniform(tm.spec)  # (a uniform tether: its one section)
+        self.line = tm.line  # (a uniform tether: its one section)
+        self.makeup = tm.makeup
+        self.pays_out = self.line.pays_out  # (the builder allows payout for a uniform line only)
         self._drum_nodes = tm.first
         self.nominal = self.element(self.line.element_length)
         fid = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_FLEX, tm.name)

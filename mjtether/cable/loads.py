@@ -8,17 +8,26 @@ Units SI, world frame; loads in N on the deployed nodes, the first at the fairle
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import mujoco
 import numpy as np
 
 from mjtether.physics import compiled
-from mjtether.physics.hydro import bending_forces, gauss_heights, tether_loads
+from mjtether.physics.hydro import bending_forces, gauss_heights, gauss_points, tether_loads, wave_inertia
 
 from .layout import CableLayout
 from .seabed import CONTACT_TOLERANCE, STICK_DAMPING, STICK_STIFFNESS
 
 _EX, _EZ = np.array([1.0, 0.0, 0.0]), np.array([0.0, 0.0, 1.0])
+
+
+class SeaAtLine(NamedTuple):
+    """The waves along a line at one instant (``CableLoads.sea``)."""
+
+    surface: np.ndarray  # (m,) m: the water surface's height over each element's centre
+    velocity: np.ndarray  # (2, m, 3) m/s: the particle velocity at each element's Gauss points
+    acceleration: np.ndarray  # (2, m, 3) m/s^2: the particles' local acceleration there
 
 
 def compiled_arrays(layout: CableLayout) -> dict:
@@ -31,7 +40,8 @@ def compiled_arrays(layout: CableLayout) -> dict:
              cd_tangential=L.element(mk.element_cd_tangential), area=L.element(mk.element_area),
              cd_area_float=L.element(mk.element_float_cd_area), bend=joint_stiffness(L))
     c.update(water=compiled.profile_codes(layout.water), rho=np.empty(2 * n), u=np.empty((2 * n, 3)),
-             f=np.empty((n + 1, 3)), friction=np.empty((n + 1, 3)), stick=np.empty((n + 1, 3)))
+             f=np.empty((n + 1, 3)), friction=np.empty((n + 1, 3)), stick=np.empty((n + 1, 3)),
+             still=np.zeros(n))  # (the mean water line over every element: no waves)
     return c
 
 
@@ -90,7 +100,7 @@ class CableLoads:
         L, k = self.layout, self.drum.first
         x = data.flexvert_xpos[L.vertadr + k:L.vertadr + L.n + 1]
         v = data.qvel[L.dof0 + 3 * k:L.dof0 + 3 * (L.n + 1)].reshape(-1, 3)
-        f = self.hydro(x, v)
+        f = self.hydro(x, v, data.time)
         if self.contact.seabed is not None:
             f += self.contact.friction(data, x, v)
         return f
@@ -104,8 +114,9 @@ class CableLoads:
         if L.normal_prm is not None:
             orient_added_mass(L.normal_prm, k, data.flexvert_xpos[L.vertadr + k:L.vertadr + L.n + 1])
 
-    def hydro(self, x: np.ndarray, v: np.ndarray) -> np.ndarray:
-        """Hydrodynamic (+ bending) loads (N) on deployed nodes at ``x`` (m) moving at ``v`` (m/s)."""
+    def hydro(self, x: np.ndarray, v: np.ndarray, t: float = 0.0) -> np.ndarray:
+        """Hydrodynamic (+ bending) loads (N) on deployed nodes at ``x`` (m) moving at ``v`` (m/s)
+        at time ``t`` (s; the waves' phase, where there are waves: ``wave_loads``)."""
         L, dr = self.layout, self.drum
         s = L.spec
         if dr.payout_rate and L.drum_eq is not None:
@@ -114,8 +125,9 @@ class CableLoads:
             e = x[1] - x[0]
             v = v.copy()
             v[0] += dr.payout_rate / max(math.sqrt(e @ e), 1e-9) * e
+        sea = self.sea(x, t)
         if L.fast is not None:
-            return self._compiled_hydro(x, v)
+            return self._compiled_hydro(x, v, sea, t)
         mk, k = L.line, dr.first
         plain = not mk.has_floats  # (the displaced area is pi d^2 / 4, no floats' drag)
         f = tether_loads(x, v, segment_length=dr.deployed_rest, diameter=L.element(mk.element_diameter)[k:],
@@ -125,14 +137,43 @@ class CableLoads:
                          area=None if plain else L.element(mk.element_area)[k:],
                          float_cd_area=None if plain else L.element(mk.element_float_cd_area)[k:],
                          drag_law=s.drag_law,
-                         first_share=dr.fairlead_share / max(dr.drum_rest, 1e-300))
+                         first_share=dr.fairlead_share / max(dr.drum_rest, 1e-300),
+                         surface=None if sea is None else sea.surface, wave_velocity=None if sea is None else sea.velocity)
+        self._wave_inertia(x, sea, f)
         if mk.has_point_loads:
-            self._point_loads(x, v, f)
+            self._point_loads(x, v, f, t)
         if self.bend is not None:
             f += bending_forces(x, self.bend[k:], 1.0)
         return f
 
-    def _compiled_hydro(self, x: np.ndarray, v: np.ndarray) -> np.ndarray:
+    def sea(self, x: np.ndarray, t: float):
+        """The waves at the deployed nodes ``x`` (m) at time ``t`` (s), or None without waves: a
+        ``SeaAtLine`` of the surface's height over each element (m, (m,): the mean of its two
+        Gauss points', its centre's to second order in the element's length over the wave
+        length), the particle velocity and local acceleration at each element's Gauss points
+        (m/s, m/s^2, (2, m, 3)): one evaluation of the sea per step."""
+        waves = self.layout.water.waves
+        if waves is None:
+            return None
+        gp = gauss_points(x)
+        eta, vel, acc = waves.state(gp.reshape(-1, 3), t)
+        return SeaAtLine(eta.reshape(2, -1).mean(axis=0), vel.reshape(gp.shape), acc.reshape(gp.shape))
+
+    def _wave_inertia(self, x: np.ndarray, sea, f: np.ndarray) -> None:
+        """Add the waves' inertia loads (``hydro.wave_inertia``: Froude-Krylov plus the added
+        mass the model carries, normal only or isotropic as ``TetherSpec.added_mass``) to ``f``."""
+        if sea is None:
+            return
+        L, k = self.layout, self.drum.first
+        mk = L.line
+        d = L.element(mk.element_diameter)[k:]
+        added = L.element(mk.element_ca_normal)[k:] * np.pi * d ** 2 / 4 + L.element(mk.element_float_added_volume)[k:]
+        axial = added if L.normal_prm is None else np.zeros_like(added)  # (isotropic: the armature on all axes)
+        zg = np.minimum(gauss_heights(x[:, 2]), 0.0)
+        f += wave_inertia(x, self.drum.deployed_rest, L.element(mk.element_area)[k:], d, sea.surface,
+                          np.asarray(L.water.rho(zg), dtype=float), sea.acceleration, added, axial)
+
+    def _compiled_hydro(self, x: np.ndarray, v: np.ndarray, sea=None, t: float = 0.0) -> np.ndarray:
         """``hydro`` with the compiled kernels: the same loads, into a
         buffer that the next call overwrites."""
         L, dr = self.layout, self.drum
@@ -144,29 +185,40 @@ class CableLoads:
             u[:] = L.water.velocity(zg)
         else:
             compiled.element_water(x, *c["water"], rho, u)
+        if sea is not None:  # (element i's two Gauss points at 2i, 2i + 1)
+            u += sea.velocity.transpose(1, 0, 2).reshape(2 * m, 3)
         mk = L.line
         share = dr.fairlead_share / max(dr.drum_rest, 1e-300)
         compiled.tether_loads(x, v, dr.deployed_rest, c["diameter"][k:], c["cd_normal"][k:],
                               c["cd_tangential"][k:], c["area"][k:], c["cd_area_float"][k:], rho, u,
-                              L.water.gravity, share, f)
+                              L.water.gravity, share, f, c["still"][:m] if sea is None else sea.surface)
+        self._wave_inertia(x, sea, f)
         if c["bend"] is not None:
             compiled.add_bending_forces(x, c["bend"][k:], f)
         if mk.has_point_loads:
-            self._point_loads(x, v, f)
+            self._point_loads(x, v, f, t)
         return f
 
-    def _point_loads(self, x: np.ndarray, v: np.ndarray, f: np.ndarray) -> None:
+    def _point_loads(self, x: np.ndarray, v: np.ndarray, f: np.ndarray, t: float = 0.0) -> None:
         """Add each point load's buoyancy (under water) and drag 1/2 rho CdA |u - v| (u - v) at its
-        node (its weight is in the node's mass) to ``f`` (N)."""
+        node (its weight is in the node's mass) to ``f`` (N); with waves, under the instantaneous
+        surface, on the current plus the particle velocity, and with the inertia load rho (V +
+        C_a V) a of the fluid's acceleration a (Froude-Krylov plus its added mass)."""
         L = self.layout
         mk = L.line
+        waves = L.water.waves
         z = np.minimum(x[:, 2], 0.0)
-        wet = x[:, 2] <= 0.0
         rho = np.asarray(L.water.rho(z), float)
+        if waves is None:
+            wet = x[:, 2] <= 0.0
+        else:
+            wet = x[:, 2] <= waves.elevation(x[:, 0], x[:, 1], t)
+            wave_u, wave_a = waves.kinematics(x, t)
+            f += (rho * wet * (mk.node_volume + mk.node_added_volume))[:, None] * wave_a
         f[:, 2] += rho * mk.node_volume * L.water.gravity * wet
         cda = mk.node_cd_area
         if np.any(cda > 0):
-            u = L.water.velocity(z) - v
+            u = L.water.velocity(z) - v if waves is None else L.water.velocity(z) + wave_u - v
             f += (0.5 * rho * cda * wet * np.sqrt(np.einsum("ij,ij->i", u, u)))[:, None] * u
 
     def native_table(self):
@@ -175,8 +227,8 @@ class CableLoads:
         know, or friction on a height field). The arrays are the drum's own, updated in place as the cable pays out."""
         L, dr, contact = self.layout, self.drum, self.contact
         c = L.fast
-        if c is None or c["water"] is None or contact.grid is not None:  # (a height field's friction: NumPy)
-            return None
+        if c is None or c["water"] is None or contact.grid is not None or L.water.waves is not None:
+            return None  # (a height field's friction, and the waves: the Python callback)
         dkind, dp, ckind, cp = c["water"]
         mk, n = L.line, L.n
         empty = np.zeros(0)

@@ -34,7 +34,10 @@ import tomllib
 
 from mjtether import _checks
 
-from .tether import MAX_COEFFICIENT, MAX_LENGTH, MAX_SEGMENTS, TetherSpec
+from mjtether.physics.hydro import DRAG_LAWS
+
+from .tether import (ADDED_MASS, MAX_AXIAL_DAMPING_RATIO, MAX_COEFFICIENT, MAX_LENGTH, MAX_SEGMENTS,
+                     MIN_AXIAL_DAMPING_RATIO, TetherSpec)
 
 SNAP = 1e-9
 """A load within this fraction of an element length of a node goes wholly to the node."""
@@ -202,11 +205,26 @@ def _readonly(a: np.ndarray) -> np.ndarray:
 class LineMakeup:
     """Sections joined end to end from the top, with point loads and float sections.
 
-    ``sections`` and ``loads`` may be given as any sequences; they are stored as tuples.
+    ``sections`` and ``loads`` may be given as any sequences; they are stored as tuples. A uniform
+    tether is a one-section make-up without loads (``uniform``, ``is_uniform``); the solvers
+    take it as its ``TetherSpec`` (``tether``: the closed-form and scalar paths, payout).
+
+    The dynamic model's properties of the whole line (as ``TetherSpec``'s):
+        axial_damping_ratio: damping ratio of one element's axial mode, in
+            [MIN_AXIAL_DAMPING_RATIO, MAX_AXIAL_DAMPING_RATIO] (see ``TetherSpec``).
+        added_mass: ``"isotropic"`` or ``"normal"``: the default of ``builder.add_tether``.
+        drag_law: ``"morison"``, or for a uniform line ``"loading_functions"`` (see
+            ``TetherSpec``; the per-section coefficients of a make-up take Morison's).
+
+    (A rated load is not the line's: a scenario's ``tether.rated_load`` stays with the scenario;
+    a section's ``mbl`` is its line type's.)
     """
 
     sections: tuple
     loads: tuple = ()
+    axial_damping_ratio: float = 1.0
+    added_mass: str = "isotropic"
+    drag_law: str = "morison"
 
     def __post_init__(self):
         try:
@@ -237,18 +255,60 @@ class LineMakeup:
                                  f"got {type(p).__name__}")
         object.__setattr__(self, "sections", sections)
         object.__setattr__(self, "loads", loads)
+        zeta = _checks.finite("line_makeup.axial_damping_ratio", self.axial_damping_ratio)
+        if not MIN_AXIAL_DAMPING_RATIO <= zeta <= MAX_AXIAL_DAMPING_RATIO:
+            raise ValueError(f"line_makeup.axial_damping_ratio must be in [{MIN_AXIAL_DAMPING_RATIO}, "
+                             f"{MAX_AXIAL_DAMPING_RATIO}] (fraction of critical), got {self.axial_damping_ratio!r}")
+        if self.added_mass not in ADDED_MASS:
+            raise ValueError(f"line_makeup.added_mass must be one of {', '.join(ADDED_MASS)}, got {self.added_mass!r}")
+        if self.drag_law not in DRAG_LAWS:
+            raise ValueError(f"line_makeup.drag_law must be one of {', '.join(DRAG_LAWS)}, got {self.drag_law!r}")
+        if self.drag_law != "morison" and not self.is_uniform:
+            raise ValueError(f"line_makeup.drag_law = {self.drag_law!r} is for a uniform line (one section, no loads); "
+                             "a make-up of several sections or with loads takes 'morison'")
 
     # ------------------------------------------------------------------ construction
 
     @classmethod
     def uniform(cls, tether: TetherSpec) -> "LineMakeup":
-        """The one-section make-up of a uniform ``TetherSpec`` (its axial damping ratio, a
-        property of the dynamic model only, is not carried)."""
+        """The one-section make-up of a uniform ``TetherSpec``, with its axial damping ratio,
+        added-mass mode and drag law (``tether`` gives it back, the same numbers)."""
         if not isinstance(tether, TetherSpec):
             raise ValueError(f"tether must be a TetherSpec, got {type(tether).__name__}")
-        return cls((Section(tether.length, tether.segments, tether.diameter, tether.mu, EA=tether.EA,
+        line = cls((Section(tether.length, tether.segments, tether.diameter, tether.mu, EA=tether.EA,
                             EI=tether.EI, cd_normal=tether.cd_normal, cd_tangential=tether.cd_tangential,
                             ca_normal=tether.ca_normal),))
+        # (the TetherSpec's own, which it has checked; not again: tests/cable/test_axial_damping_bound.py
+        # bypasses that check to show what goes wrong below the range)
+        for name in ("axial_damping_ratio", "added_mass", "drag_law"):
+            object.__setattr__(line, name, getattr(tether, name))
+        return line
+
+    @classmethod
+    def of(cls, tether, field: str = "tether") -> "LineMakeup":
+        """``tether`` as a make-up: a ``LineMakeup`` as it is, a ``TetherSpec`` as its one section
+        (``uniform``); ValueError naming ``field`` for anything else."""
+        if isinstance(tether, LineMakeup):
+            return tether
+        if isinstance(tether, TetherSpec):
+            return cls.uniform(tether)
+        raise ValueError(f"{field} must be a TetherSpec or a LineMakeup, got {type(tether).__name__}")
+
+    @cached_property
+    def tether(self) -> TetherSpec:
+        """The uniform ``TetherSpec`` this line is (one section, no loads: ``is_uniform``): its
+        section's length, elements, diameter, mass per metre, EA, EI and coefficients, with the
+        make-up's axial damping ratio, added-mass mode and drag law. The same numbers as the
+        ``TetherSpec`` that ``uniform`` was given (its ``mu`` as ``mass_per_length``). ValueError
+        for a line of several sections or with loads, which no ``TetherSpec`` describes."""
+        if not self.is_uniform:
+            raise ValueError(f"line_makeup: {len(self.sections)} section(s) and {len(self.loads)} load(s) make no "
+                             "uniform tether (one section, no loads)")
+        s = self.sections[0]
+        return TetherSpec(length=s.length, segments=s.segments, diameter=s.diameter, mass_per_length=s.mass_per_length,
+                          cd_normal=s.cd_normal, cd_tangential=s.cd_tangential, ca_normal=s.ca_normal, EA=s.EA,
+                          EI=s.EI, axial_damping_ratio=self.axial_damping_ratio, added_mass=self.added_mass,
+                          drag_law=self.drag_law)
 
     def reversed(self) -> "LineMakeup":
         """The same line numbered from the other end (sections in reverse order, arc lengths
@@ -261,7 +321,7 @@ class LineMakeup:
             else:
                 loads.append(DistributedBuoyancy(max(L - p.end, 0.0), L - p.start, p.volume_per_length,
                                                  p.mass_per_length, p.cd_area_per_length, p.ca, p.name))
-        return LineMakeup(self.sections[::-1], tuple(loads))
+        return replace(self, sections=self.sections[::-1], loads=tuple(loads))
 
     def truncated(self, length: float) -> "LineMakeup":
         """The top ``length`` m of the line (e.g. all but the part rising to a walker's tow
@@ -289,7 +349,7 @@ class LineMakeup:
                 continue
             keep = length - a
             sections.append(replace(sec, length=keep, segments=max(1, round(keep / sec.segment_length))))
-        return LineMakeup(tuple(sections), self.loads)
+        return replace(self, sections=tuple(sections))
 
     # ------------------------------------------------------------------ geometry
 
@@ -307,8 +367,16 @@ class LineMakeup:
 
     @property
     def is_uniform(self) -> bool:
-        """One section and no loads: the same as a ``TetherSpec``."""
+        """One section and no loads: the same as a ``TetherSpec`` (``tether``)."""
         return len(self.sections) == 1 and not self.loads
+
+    @property
+    def pays_out(self) -> bool:
+        """Whether a winch may pay this line out and reel it in: a uniform one, whose drum pays
+        out more of its one section (``builder.add_tether``'s ``max_length``; ``drum`` lumps its
+        one mass per metre). A make-up's sections and loads have fixed places on it: its length
+        is fixed."""
+        return self.is_uniform
 
     @cached_property
     def section_bounds(self) -> np.ndarray:

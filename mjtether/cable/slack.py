@@ -41,8 +41,8 @@ class SlackSwitch:
         self._snap_views = None  # its slices before and at the elements (element_rows)
         self._eq_view, self._length_view = L.data.eq_active[L.eqs], L.data.ten_length[L.ten]
         # pushes and overshoots below this (N) switch elements without redoing the step
-        mk = L.makeup
-        w0 = L.spec.wet_weight_per_length(float(water.rho([0.0])[0])) if mk is None else \
+        mk = L.line
+        w0 = L.spec.wet_weight_per_length(float(water.rho([0.0])[0])) if mk.is_uniform else \
             float(np.mean(np.abs(mk.element_wet_weight(float(water.rho([0.0])[0]), water.gravity))))
         self.f_min = max(SLACK_FORCE * abs(w0) * L.l0, 1e-6)
 

@@ -1,7 +1,8 @@
 """``lines.npz``: every line of a run at every sample, in one layout for a single tether and for a
 network of lines.
 
-Keys (arrays; SI units; world frame, z up):
+Keys (arrays; SI units; world frame, z up; a line's arrays named by ``files.results_folder.line_arrays``
+for every system):
 
 * ``time_s`` (n,): the samples' times (s);
 * per line NAME (a single tether's line is named ``tether``), every array from end A to end B
@@ -27,7 +28,9 @@ from pathlib import Path
 
 import numpy as np
 
-FILE = "lines.npz"
+from mjtether.files.results_folder import LINES as FILE
+from mjtether.files.results_folder import line_arrays
+
 OLD_FILE = "tether.npz"
 TETHER = "tether"
 """The name of a single tether's line."""
@@ -43,10 +46,8 @@ def tether_arrays(time: np.ndarray, history: dict, tethered: bool = True) -> dic
         length = history["element_length"][-1, ::-1]
         on = np.flatnonzero(length > 0.0)
         last = int(on[-1]) + 1 if on.size else 0  # (the deployed nodes: those of the elements with a length)
-        out[f"line{TETHER}"] = nodes[-1, :last + 1]
-        out[f"line{TETHER}_nodes"] = nodes
-        for key in ("tension", "compression", "element_length"):
-            out[f"line{TETHER}_{key}"] = history[key][:, ::-1]
+        out.update(line_arrays(TETHER, nodes[-1, :last + 1], {
+            "nodes": nodes, **{key: history[key][:, ::-1] for key in ("tension", "compression", "element_length")}}))
     for key in STATE:
         if key in history:
             out[key] = history[key]

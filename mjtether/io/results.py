@@ -1,4 +1,6 @@
-"""Writing a run's results: a folder that is either complete or absent.
+"""Writing a scenario's results: a folder that is either complete or absent, written by the
+writer every system shares (``files.results_folder.write_folder``); what is the scenario's own
+is here: its columns, its summary and its plots.
 
 Files (all SI units; ``docs/scenarios.md`` lists the CSV columns):
 
@@ -20,7 +22,7 @@ Files (all SI units; ``docs/scenarios.md`` lists the CSV columns):
   ``mocap_quat`` (n, nmocap, 4), which ``mjtether render DIR`` sets again to replay the run
   (``mjtether.io.replay``; a run without a tether saves these only);
 * ``summary.json``: the scenario as read (defaults filled in), final and peak tensions, wall time,
-  real-time factor, how the run was started;
+  real-time factor, how the run was started, and (where drawn) ``plots``, the plots' file names;
 * ``tension.png`` (tensions at the ship end and the tow point, deployed length), ``profile.png``
   (side view x-z of tether snapshots with the water surface, the seabed as defined, sloped or not,
   the ship and the robot; top view x-y with their tracks), ``track.png`` (plan view of the ship's
@@ -36,16 +38,15 @@ an existing folder is never replaced unless it is purely an earlier mjtether res
 
 from __future__ import annotations
 
-import csv
-import json
 import math
-import shutil
 from pathlib import Path
 
 import numpy as np
 
 from mjtether.cable.builder import seabed_height
 from mjtether.files.outdir import Staging, check_target
+from mjtether.files.results_folder import jsonable as _jsonable
+from mjtether.files.results_folder import write_folder
 from mjtether.physics.water import WaterColumn
 from mjtether.scenario.readouts import TETHER_FIELDS, VEHICLE_FIELDS
 from mjtether.scenario.runner import RECORD_FIELDS
@@ -66,18 +67,6 @@ def column_names(tethered: bool = True, vehicle: bool = True) -> list[str]:
     names = [f"{name}_{unit.replace(' ', '').replace('/', 'per')}" if unit else name
              for name, unit, _ in RECORD_FIELDS]
     return [names[i] for i in written(tethered, vehicle)]
-
-
-def _jsonable(x):
-    if isinstance(x, dict):
-        return {k: _jsonable(v) for k, v in x.items()}
-    if isinstance(x, (list, tuple)):
-        return [_jsonable(v) for v in x]
-    if isinstance(x, float) and not math.isfinite(x):
-        return str(x)
-    if isinstance(x, (np.floating, np.integer)):
-        return x.item()
-    return x
 
 
 def summary(sc, rows: np.ndarray, info: dict, scenario_path) -> dict:
@@ -131,24 +120,13 @@ def write(out, sc: dict, rows: np.ndarray, history: dict, info: dict, scenario_p
     (nothing else: raises ``outdir.OutputError``, as for a full disk, and writes nothing). The cli
     checks ``out`` before simulating; it is checked again here for callers from Python."""
     target = check_target(out, overwrite=overwrite, protect=[scenario_path] if scenario_path else ())
-    nodes = history["nodes"]
-    tethered = info.get("tethered", True)
-    vehicle = info.get("vehicle", True)
-    keep = written(tethered, vehicle)
+    tethered, vehicle = info.get("tethered", True), info.get("vehicle", True)
+    arrays = lines_npz.tether_arrays(rows[:, 0], history, tethered)
     with Staging(target, overwrite=overwrite) as stage:
-        tmp = stage.path
-        with open(tmp / "timeseries.csv", "w", newline="") as fh:
-            w = csv.writer(fh)
-            w.writerow(column_names(tethered, vehicle))
-            for r in rows:
-                w.writerow([f"{v:.9g}" for v in r[keep]])
-        np.savez_compressed(tmp / lines_npz.FILE, **lines_npz.tether_arrays(rows[:, 0], history, tethered))
-        (tmp / "summary.json").write_text(json.dumps(summary(sc, rows, info, scenario_path), indent=2))
-        if plots:
-            _plots(tmp, rows, nodes, sc, tethered)
-        for name, path in (extra_files or {}).items():
-            shutil.move(str(path), tmp / name)
-        return stage.commit()
+        return write_folder(stage, column_names(tethered, vehicle), rows[:, written(tethered, vehicle)], arrays,
+                            summary(sc, rows, info, scenario_path),
+                            plots=(lambda folder: _plots(folder, rows, history["nodes"], sc, tethered)) if plots
+                            else None, extra_files=extra_files)
 
 
 # ------------------------------------------------------------------------------ plots
@@ -322,16 +300,19 @@ def track_figure(rows: np.ndarray, sc):
     return fig
 
 
-def _plots(folder: Path, rows: np.ndarray, nodes: np.ndarray, sc, tethered: bool = True) -> None:
+def _plots(folder: Path, rows: np.ndarray, nodes: np.ndarray, sc, tethered: bool = True) -> list[str]:
     """Write tension.png, profile.png and track.png into ``folder`` (track.png only for a run
-    without a tether)."""
+    without a tether); returns the names of the files written."""
     plt = _pyplot()
     figures = (("tension.png", lambda: tension_figure(rows)),
                ("profile.png", lambda: profile_figure(rows, nodes, sc)),
                ("track.png", lambda: track_figure(rows, sc)))
+    names = []
     for name, make in figures if tethered else figures[2:]:
         fig = make()
         try:
             fig.savefig(folder / name, dpi=110)
         finally:
             plt.close(fig)
+        names.append(name)
+    return names

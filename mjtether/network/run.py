@@ -35,23 +35,23 @@ is not used.
 
 from __future__ import annotations
 
-import csv
 import dataclasses
-import json
 import math
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import NamedTuple
 
 import mujoco
 import numpy as np
 
 from mjtether.cable import builder, softening, stability
 from mjtether.cable import ends as line_ends
+from mjtether.files.results_folder import line_arrays, write_folder
 from mjtether.physics import water as wm
 from mjtether.physics.rigidbody import RigidBodyHydro, add_body_hydro
 from mjtether.scenario.controllers import VehiclePilot
-from mjtether.simulation import Simulation, SimulationDiverged
+from mjtether.simulation import Simulation, SimulationDiverged, drive
 from mjtether.vehicles.files import build_vehicle
 
 from . import cost, statics
@@ -524,9 +524,17 @@ def sample(r: NetworkRun) -> list[float]:
     return row
 
 
-def simulate(net: Network, progress=None, video=None) -> tuple[NetworkRun, np.ndarray]:
-    """Run ``net`` for its duration; returns the run (at its final state; ``r.sim.close()`` when
-    done) and the time series (rows of ``columns``, one per output interval). ``video(r)``, where
+class NetworkResult(NamedTuple):
+    """What ``simulate`` and ``run_to`` return (``r, rows = simulate(net)`` still unpacks it)."""
+
+    run: NetworkRun
+    rows: np.ndarray
+
+
+def simulate(net: Network, progress=None, video=None) -> NetworkResult:
+    """Run ``net`` for its duration; returns ``NetworkResult(run, rows)``: the run (at its final
+    state; ``r.sim.close()`` when done) and the time series (rows of ``columns``, one per output
+    interval from the start and one at the end, ``simulation.drive``). ``video(r)``, where
     given, makes a recorder (``due(t)``, ``capture()``, ``finish()``, ``abort()``: as
     ``mjtether.io.render.VideoRecorder``) that takes a frame at the first step on or after each
     frame's time, is finished with the run and aborted if it fails (``r.video`` says what it
@@ -550,7 +558,7 @@ def simulate(net: Network, progress=None, video=None) -> tuple[NetworkRun, np.nd
             continue
         if why:
             r.note += f"; run at {r.timestep:g} s: the run diverged at " + ", then at ".join(why)
-        return r, table
+        return NetworkResult(r, table)
 
 
 def first_forces(r: NetworkRun) -> None:
@@ -577,8 +585,8 @@ RETRIES = 3
 
 
 def _run(r: NetworkRun, progress=None, video=None) -> np.ndarray:
-    """``simulate``'s run of the built ``r``: its rows; ``r.sim`` closed (and the video aborted)
-    if it fails."""
+    """``simulate``'s run of the built ``r`` (``simulation.drive``, every system's run loop): its
+    rows; ``r.sim`` closed (and the video aborted) if it fails."""
     net = r.net
     rec = None
     try:
@@ -589,30 +597,15 @@ def _run(r: NetworkRun, progress=None, video=None) -> np.ndarray:
         for bt in r.sim.tethers.values():  # (the settling's pushes are not the run's)
             bt.clear_peak_compression()
         first_forces(r)
-        rows = [sample(r)]
-        r.record()
-        if video is not None:
-            rec = video(r)
-            if rec.due(r.sim.time):
-                rec.capture()
-        done = 0
-        while done < total:
-            k = min(every, total - done)
-            if rec is None:
-                r.advance(k)
-            else:
-                for _ in range(k):
-                    r.advance(1)
-                    if rec.due(r.sim.time):
-                        rec.capture()
-            done += k
-            rows.append(sample(r))
+        rec = video(r) if video is not None else None
+
+        def on_sample():
+            row = sample(r)
             r.record()
-            if progress is not None:
-                progress(done, total)
-        table = np.array(rows)
-        if not np.all(np.isfinite(table)):
-            raise SimulationDiverged("a line force or point position became non-finite")
+            return row
+
+        table = drive(r.advance, total, every, on_sample, clock=lambda: r.sim.time, video=rec, progress=progress,
+                      names=columns(net)).rows
         if rec is not None:
             path = rec.finish()
             r.video = {"file": Path(path).name, "frames": rec.frames, "fps": rec.s.fps, "camera": rec.s.camera,
@@ -627,29 +620,22 @@ def _run(r: NetworkRun, progress=None, video=None) -> np.ndarray:
 
 def write(r: NetworkRun, rows: np.ndarray, folder, *, source=None, wall_time: float = 0.0,
           plots: bool = True) -> None:
-    """The results of a run into ``folder`` (an empty staging folder): ``timeseries.csv``,
-    ``lines.npz``, ``summary.json`` and, with ``plots``, ``tension.png`` and ``profile.png``
+    """The results of a run into ``folder`` (a staging folder, ``outdir.Staging``, committed when
+    written; or a plain empty folder) by the writer every system shares
+    (``files.results_folder.write_folder``): ``timeseries.csv`` (``columns``), ``lines.npz``,
+    ``summary.json`` and, with ``plots``, ``tension.png`` and ``profile.png``
     (``network.plots``). ``lines.npz`` holds ``time_s`` (the samples' times, s)
     and, per line NAME, from end A to end B: ``lineNAME`` (its final deployed nodes, m),
     ``lineNAME_nodes`` (samples, n+1, 3; m), ``lineNAME_tension`` and ``lineNAME_compression``
     (samples, n; N, >= 0: each element's pull, and the largest push its constraint made since the
     previous sample, which a cable cannot and the tension leaves out; see ``NetworkRun.record``)."""
-    folder = Path(folder)
     net = r.net
     cols = columns(net)
-    with open(folder / "timeseries.csv", "w", newline="") as fh:
-        w = csv.writer(fh)
-        w.writerow(cols)
-        for row in rows:
-            w.writerow([f"{v:.9g}" for v in row])
     arrays = {"time_s": rows[:, 0]}
     for ln in net.lines:
-        arrays[f"line{ln.name}"] = r.line_nodes(ln.name)
-        for what, values in r.history.get(ln.name, {}).items():
-            arrays[f"line{ln.name}_{what}"] = np.array(values)
+        arrays.update(line_arrays(ln.name, r.line_nodes(ln.name), r.history.get(ln.name, {})))
     if r.states:  # (the bodies' and points' poses: a replay sets them; see ``NetworkRun.record``)
         arrays["qpos"] = np.array(r.states)
-    np.savez_compressed(folder / "lines.npz", **arrays)
     final = dict(zip(cols, rows[-1]))
     summary = {
         "source": None if source is None else str(source),
@@ -670,14 +656,13 @@ def write(r: NetworkRun, rows: np.ndarray, folder, *, source=None, wall_time: fl
     }
     if r.video is not None:
         summary["video"] = r.video
-    if plots:
-        from . import plots as network_plots
-        summary["plots"] = network_plots.write(folder, r, rows, cols)
-    (folder / "summary.json").write_text(json.dumps(summary, indent=2))
+    from . import plots as network_plots
+    write_folder(folder, cols, rows, arrays, summary,
+                 plots=(lambda into: network_plots.write(into, r, rows, cols)) if plots else None)
 
 
 def run_to(net: Network, out, *, overwrite: bool = False, source=None, progress=None,
-           plots: bool = True, video=None) -> tuple[NetworkRun, np.ndarray]:
+           plots: bool = True, video=None) -> NetworkResult:
     """Simulate ``net`` and write its results folder ``out`` whole or not at all; returns the run
     (its simulation closed) and the time series. ``video(r, folder)``, where given, makes the
     recorder of ``simulate`` writing into the results folder ``folder`` (staged with the rest)."""
@@ -688,8 +673,7 @@ def run_to(net: Network, out, *, overwrite: bool = False, source=None, progress=
         r, rows = simulate(net, progress=progress,
                            video=None if video is None else (lambda run_: video(run_, stage.path)))
         try:
-            write(r, rows, stage.path, source=source, wall_time=time.perf_counter() - t0, plots=plots)
-            stage.commit()
+            write(r, rows, stage, source=source, wall_time=time.perf_counter() - t0, plots=plots)
         finally:
             r.sim.close()
-    return r, rows
+    return NetworkResult(r, rows)

@@ -2,7 +2,8 @@
 network's seabed and walking on the scenario's gait drive (``scenario.controllers.GaitDrive``:
 its tripod gait, speed ramp and heading hold, at its control rate).
 
-A walker starts as a scenario's does: ``scenario.start.stand_walker`` lets it stand alone on
+A walker starts as a scenario's does: the scenario's walker part (``scenario.robot_ends.Walker``,
+its ``stand``: ``scenario.start.stand_walker``) lets it stand alone on
 the seabed (stepping in place in still water for ``start.STAND_S``) and puts that pose at its
 position and heading, at rest; the network's statics hold its points there (``torso_frame``)
 and its lines start from them. It is attached under the prefix ``walker/NAME/`` (its torso the
@@ -14,8 +15,6 @@ headings in radians here (degrees in the network file).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
-from types import SimpleNamespace
 
 import mujoco
 import numpy as np
@@ -24,8 +23,9 @@ from mjtether.cable import builder
 from mjtether.physics import water as wm
 from mjtether.physics.rigidbody import add_body_hydro
 from mjtether.scenario.controllers import GaitDrive
+from mjtether.scenario.robot_ends import Ground, Walker
 from mjtether.scenario.scene import WALKER_PATCH
-from mjtether.scenario.start import stand_walker
+from mjtether.scenario.sections import Robot
 from mjtether.walker import HYDRO, Tripod, walker_spec
 
 STAND_TIMESTEP = 0.005
@@ -39,61 +39,31 @@ def prefix(name: str) -> str:
     return f"walker/{name}/"
 
 
-@dataclass(frozen=True)
-class _Ground:
-    """What ``scenario.start.stand_walker`` reads of a scenario's ``Scene``, for a network's
-    walker: the water, the seabed's plane under the walker (slope and the heading it rises
-    towards, rad; a bathymetry grid's plane fitted around it), the walker's start (``sc.robot.start``,
-    m) and heading (rad)."""
+def part(w):
+    """Network walker ``w`` as the scenario's robot-end part (``scenario.robot_ends.Walker``): a
+    ``[robot]`` section of type walker at its position and heading, on its gait period and
+    schedule (deg/s, as ``robot.commands``)."""
+    commands = w.commands if w.commands is not None else ((0.0, w.speed, 0.0),)
+    return Walker(Robot(type="walker", start=w.position, heading_deg=w.heading_deg, gait_period=w.gait_period,
+                        commands=commands))
 
-    net: object
-    walker: object
-    water: wm.WaterColumn
 
-    @property
-    def grid(self):
-        return self.net.grid
-
-    @property
-    def slope_and_heading(self) -> tuple[float, float]:
-        grid = self.grid
-        return (0.0, 0.0) if grid is None else grid.plane_at(*self.walker.position, WALKER_PATCH)
-
-    @property
-    def slope(self) -> float:
-        return self.slope_and_heading[0]
-
-    @property
-    def slope_heading(self) -> float:
-        return self.slope_and_heading[1]
-
-    @property
-    def heading(self) -> float:
-        return math.radians(self.walker.heading_deg)
-
-    @property
-    def tilt(self) -> np.ndarray:
-        return np.array(builder.slope_quat(*self.slope_and_heading))
-
-    @property
-    def sc(self):
-        """The scenario keys the stand reads: ``water.seabed_friction``, ``water.bathymetry``, ``robot.start``."""
-        return SimpleNamespace(water=SimpleNamespace(seabed_friction=self.net.seabed_friction,
-                                                     bathymetry=self.net.bathymetry),
-                               robot=SimpleNamespace(start=self.walker.position))
-
-    def seabed_z(self, x, y):
-        return self.net.seabed_height(x, y)
+def ground(net, w, water: wm.WaterColumn) -> Ground:
+    """The seabed and water network walker ``w`` stands on: the network's seabed (its bathymetry
+    grid's plane fitted around the walker, or level), friction and ``water``."""
+    grid = net.grid
+    slope, slope_heading = (0.0, 0.0) if grid is None else grid.plane_at(*w.position, WALKER_PATCH)
+    return Ground(water, slope, slope_heading, net.seabed_friction, net.seabed_height, grid, net.bathymetry)
 
 
 def stand(net, name: str, water: wm.WaterColumn, gait: Tripod | None = None):
-    """Walker ``name``'s standing pose (``scenario.start.stand_walker``, at ``STAND_TIMESTEP``
+    """Walker ``name``'s standing pose (``robot_ends.Walker.stand``, at ``STAND_TIMESTEP``
     or the network's step): ({(body, index in body): (qpos, qvel)}, {actuator: control}, tow point
     m), its bodies and actuators named as the scenario's (``walker/...``); ``gait`` (default: a
     new one) is left at the phase it stood in. Stands on a level seabed are made once and kept."""
     w = net.walkers[name]
     dt = net.timestep if net.timestep is not None else STAND_TIMESTEP
-    return stand_walker(_Ground(net, w, water), gait if gait is not None else Tripod(period=w.gait_period), dt)
+    return part(w).stand(ground(net, w, water), gait if gait is not None else Tripod(period=w.gait_period), dt)
 
 
 def torso_frame(net, name: str, water: wm.WaterColumn) -> tuple[np.ndarray, np.ndarray]:

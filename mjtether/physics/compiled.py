@@ -223,11 +223,13 @@ def element_water(x, dkind, dp, ckind, cp, rho, u):
 
 @jit
 def tether_loads(x, v, rest, diameter, cd_normal, cd_tangential, area, cd_area_float, rho, u, gravity,
-                 first_share, f):
+                 first_share, f, surface):
     """``hydro.tether_loads`` into ``f`` (n+1, 3), N: every element property given per element
     (n,): rest length l (m), diameter d (m), C_dn, C_dt, displaced area per metre (m^2) and the
     floats' extra normal drag area per metre (m^2/m); ``rho`` (2n,) and ``u`` (2n, 3) at the
-    elements' Gauss points (``element_water``)."""
+    elements' Gauss points (``element_water``, the waves' particle velocity added where there are
+    waves); ``surface`` (n,): the water surface's height over each element (m; zeros: the mean
+    water line)."""
     n = x.shape[0] - 1
     near = np.zeros((n, 3))  # (each element's drag on node i, and on node i + 1: the lever rule)
     far = np.zeros((n, 3))
@@ -244,7 +246,7 @@ def tether_loads(x, v, rest, diameter, cd_normal, cd_tangential, area, cd_area_f
             t[j] *= inv
         # the submerged fraction and the centre of the wet part (hydro.wet_fraction)
         h = 0.5 * diameter[i] * math.sqrt(max(1.0 - t[2] * t[2], 0.0))
-        frac, centre[i] = _wet_fraction(x[i, 2], x[i + 1, 2], h)
+        frac, centre[i] = _wet_fraction(x[i, 2] - surface[i], x[i + 1, 2] - surface[i], h)
         for g in range(2):  # (the drag at its two Gauss points, each for half its length)
             s = 0.5 - GAUSS if g == 0 else 0.5 + GAUSS
             k = 2 * i + g

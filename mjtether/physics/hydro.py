@@ -216,6 +216,8 @@ def tether_loads(
     area=None,
     float_cd_area=None,
     drag_law: str = "morison",
+    surface=None,
+    wave_velocity=None,
 ) -> np.ndarray:
     """Hydrodynamic loads on the nodes of a tether (N, world frame), shape ``(N+1, 3)``.
 
@@ -234,14 +236,21 @@ def tether_loads(
         float_cd_area: extra normal drag area per metre of each element (m^2/m: floats), or None.
         drag_law: ``"morison"`` or ``"loading_functions"`` (``DRAG_LAWS``; the latter takes
             ``cd_normal`` as its one C_d and ignores ``cd_tangential`` and floats).
+        surface: the water surface's height over each element (m, (n,)), where waves move it:
+            the wet fraction and the buoyancy follow it (None: the mean water line, z = 0).
+        wave_velocity: the waves' particle velocity at each element's Gauss points (m/s, shape
+            (2, n, 3)), added to the current (None: no waves). Density and current are taken at
+            the still-water height, clamped at z = 0 (constant into a crest).
     """
     _, _, t = element_geometry(x)
-    frac, centre = wet_fraction(x[:-1, 2], x[1:, 2], section_half_height(diameter, t))
+    z0, z1 = (x[:-1, 2], x[1:, 2]) if surface is None else (x[:-1, 2] - surface, x[1:, 2] - surface)
+    frac, centre = wet_fraction(z0, z1, section_half_height(diameter, t))
     zg = np.minimum(gauss_heights(x[:, 2]), 0.0)
     rho = rho_fn(zg)  # (2, n): at each element's two Gauss points
     near = far = 0.0  # each element's drag on node i and on node i + 1: the lever rule from its Gauss points
     for g, s in enumerate(GAUSS_POINTS):
-        vrel = current_fn(zg[g]) - ((1.0 - s) * v[:-1] + s * v[1:])
+        u = current_fn(zg[g]) if wave_velocity is None else current_fn(zg[g]) + wave_velocity[g]
+        vrel = u - ((1.0 - s) * v[:-1] + s * v[1:])
         drag = element_drag(drag_law, t, vrel, rho[g], 0.5 * segment_length * frac, diameter, cd_normal,
                             np.pi * np.asarray(cd_tangential), float_cd_area)
         near, far = near + (1.0 - s) * drag, far + s * drag
@@ -266,6 +275,38 @@ def tether_loads(
             shift = near[1] - 0.5 * (near[1] + far[1])
             f[1] -= shift
             f[2] += shift
+    return f
+
+
+def gauss_points(x: np.ndarray) -> np.ndarray:
+    """Positions (m), shape (2, n, 3), of the Gauss points of the elements of the node polyline
+    ``x`` (n+1, 3)."""
+    return np.stack([x[:-1] + s * (x[1:] - x[:-1]) for s in GAUSS_POINTS])
+
+
+def wave_inertia(x: np.ndarray, rest, area, diameter, surface: np.ndarray, rho: np.ndarray,
+                 acceleration: np.ndarray, added_normal, added_axial) -> np.ndarray:
+    """The waves' inertia loads on the nodes (N, world, shape (n+1, 3)): Morison's inertia term
+    with C_m = 1 + C_a, i.e. the Froude-Krylov force rho A l a on the displaced volume plus the
+    added mass's share rho A_a l a, split into the fluid acceleration's normal and axial parts:
+    rho l_wet (A a + A_an a_n + A_at a_t) at each Gauss point for half the element, shared to its
+    nodes by the lever rule (as the drag). ``rest`` l (m), ``area`` the displaced area per metre
+    A (m^2), ``diameter`` (m), ``added_normal`` / ``added_axial`` the added mass's area per metre
+    normal to and along the element (m^2: C_a pi d^2 / 4, plus floats' C_a V per metre; what
+    the model's added mass holds, so that the load and the inertia agree), one per element (n,);
+    ``surface`` the water surface's height over each element (m), ``rho`` (2, n) the density and
+    ``acceleration`` (2, n, 3) the fluid's local acceleration (m/s^2) at the Gauss points."""
+    _, _, t = element_geometry(x)
+    frac, _ = wet_fraction(x[:-1, 2] - surface, x[1:, 2] - surface, section_half_height(diameter, t))
+    f = np.zeros_like(x)
+    for g, s in enumerate(GAUSS_POINTS):
+        a = acceleration[g]
+        axial = np.einsum("ij,ij->i", a, t)[:, None] * t
+        m = (0.5 * rho[g] * np.asarray(rest) * frac)[:, None]  # kg per m^2 of area
+        load = m * (np.asarray(area)[:, None] * a + np.asarray(added_normal)[:, None] * (a - axial)
+                    + np.asarray(added_axial)[:, None] * axial)
+        f[:-1] += (1.0 - s) * load
+        f[1:] += s * load
     return f
 
 

@@ -244,7 +244,7 @@ def _tether(mp, dp, table, offs):
     gravity = P[0]
     compiled.tether_loads(x, v, _vec(table, T_REST)[k:], _vec(table, T_DIAMETER)[k:], _vec(table, T_CDN)[k:],
                           _vec(table, T_CDT)[k:], _vec(table, T_AREA)[k:], _vec(table, T_CDAF)[k:], rho, u, gravity,
-                          S[1], f)
+                          S[1], f, np.zeros(m))  # (no waves: a tether with waves takes the Python path)
     if I[5]:
         compiled.add_bending_forces(x, _vec(table, T_BEND)[k:], f)
     if I[8]:

@@ -274,9 +274,16 @@ class WaterColumn:
     density: DensityProfile = field(default_factory=ConstantDensity)
     current: CurrentProfile = field(default_factory=ConstantCurrent)
     gravity: float = GRAVITY
+    waves: object = None
+    """The sea state (``physics.waves.WaveField``: ``elevation(x, y, t)`` m and ``kinematics(points,
+    t)``: particle velocity m/s and local acceleration m/s^2), or None: a flat sea."""
 
     def __post_init__(self):
         _checks.in_range("water.depth", self.depth, 0.1, 12000.0, "m")
+        if self.waves is not None and not (callable(getattr(self.waves, "elevation", None))
+                                           and callable(getattr(self.waves, "kinematics", None))):
+            raise ValueError(f"water.waves must be a wave field (physics.waves.WaveField), got "
+                             f"{type(self.waves).__name__}")
         _checks.in_range("water.gravity", self.gravity, 0.0, 20.0, "m/s^2")
         if not isinstance(self.density, DensityProfile):
             raise ValueError(f"water.density must be a DensityProfile, got {type(self.density).__name__}")

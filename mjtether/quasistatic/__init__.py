@@ -4,7 +4,7 @@
   as the dynamic model (drag on the relative velocity, rho(z), turning current, tow velocity,
   seabed contact), of a uniform ``TetherSpec`` or a non-uniform ``mjtether.cable.makeup.LineMakeup``
   (sections, clump weights, buoyancy modules, float sections); ``initial_state`` gives it for a
-  dynamic run's own stiffness (TetherSpec only).
+  dynamic run's own stiffness (a uniform line only).
 * ``catenary``: the analytic elastic catenary with seabed contact and friction.
 * ``khan2023``: the finite-segment method of Khan et al. (2023), as printed and as re-derived.
 """

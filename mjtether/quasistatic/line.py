@@ -28,9 +28,11 @@ from . import kernels
 
 
 class _Cable:
-    """Constants of the march for one tether (a ``TetherSpec`` or a ``LineMakeup``) in one water
-    column: per-element arrays (``l_e``, ``d_e``, ...) and, for a uniform line, the same as
-    scalars (``l``, ``d``, ...; ``None`` for a non-uniform make-up)."""
+    """Constants of the march for one line (a ``TetherSpec`` or a ``LineMakeup``: ``line``) in
+    one water column: per-element arrays (``l_e``, ``d_e``, ...) and, for a uniform line
+    (``uniform``: one section, no loads, marched as its ``TetherSpec``), the same as scalars
+    (``l``, ``d``, ...; ``None`` for a non-uniform make-up). ``EA``: a number, ``None``
+    (inextensible) or, for a make-up, "tether" (each section's)."""
 
     def __init__(self, tether, water: WaterColumn, tow_velocity, EA):
         self.g = water.gravity
@@ -40,9 +42,13 @@ class _Cable:
         self.float_cda = None  # normal drag area of distributed floats per metre, per element
         self.node_loads = None  # (mass, volume, cd_area) per node, where any
         self.k_min = 0  # first element that may hold the touchdown
-        self.drag_law = getattr(tether, "drag_law", "morison")  # (a make-up: Morison's)
-        if isinstance(tether, TetherSpec):
-            self.makeup = None
+        self.line = line = LineMakeup.of(tether)
+        self.uniform = line.is_uniform
+        self.drag_law = line.drag_law
+        if self.uniform:  # the scalars of the uniform path (the slack state and the lay use them)
+            tether = tether if isinstance(tether, TetherSpec) else line.tether
+            if EA == "tether":
+                EA = tether.EA
             self.N = N = tether.segments
             self.l = tether.segment_length
             self.L = tether.length
@@ -58,8 +64,6 @@ class _Cable:
             self.s_node = np.arange(N + 1) * self.l
             self.fast = self._compiled()
             return
-        line: LineMakeup = tether
-        self.makeup = line
         self.N = N = line.segments
         self.L = line.length
         self.l_e = line.element_length
@@ -77,11 +81,7 @@ class _Cable:
             self.float_cda = line.element_float_cd_area
         if line.has_point_loads:
             self.node_loads = (line.node_mass, line.node_volume, line.node_cd_area)
-        if line.is_uniform:  # the scalars of the uniform path (the slack state uses them)
-            self.l, self.EA, self.d, self.A = float(self.l_e[0]), float(self.EA_e[0]), float(self.d_e[0]), float(self.A_e[0])
-            self.mu, self.cdn, self.cdt_pi = float(self.mu_e[0]), float(self.cdn_e[0]), float(self.cdt_pi_e[0])
-        else:
-            self.l = self.EA = self.d = self.A = self.mu = self.cdn = self.cdt_pi = None
+        self.l = self.EA = self.d = self.A = self.mu = self.cdn = self.cdt_pi = None
         # buoyant parts cannot lie on the seabed: the touchdown comes after the last of them
         self.w_sb = self.seabed_weight(self.mu_e, self.A_e)
         buoyant = [e + 1 for e in np.flatnonzero(self.w_sb < 0.0)]
@@ -92,6 +92,12 @@ class _Cable:
             self.W_sb = np.zeros(N + 1)
         self.k_min = int(max(buoyant, default=0))
         self.fast = self._compiled()
+
+    @property
+    def makeup(self):
+        """The make-up of a non-uniform line, else None (for callers that read it so; new code
+        reads ``uniform`` and ``line``)."""
+        return None if self.uniform else self.line
 
     def _compiled(self):
         """The arguments of ``kernels.steady_march`` after the shots (the same march, compiled),
@@ -182,11 +188,11 @@ class _Cable:
             kernels.steady_march(np.ascontiguousarray(x0, dtype=float), np.ascontiguousarray(P0, dtype=float),
                                   *self.fast, iterations, stop_on_touchdown, max(self.k_min, start), allow_first,
                                   X, T, P, td)
-            if self.makeup is not None:
+            if not self.uniform:
                 return X, T, P, td, np.zeros((K, n + 1, 3))
             return (X, T, P, td) if stop_on_touchdown else (X, T, P)
         X[:, start], P[:, start] = x0, P0
-        G = np.zeros((K, n + 1, 3)) if self.makeup is not None else None
+        G = None if self.uniform else np.zeros((K, n + 1, 3))
         if start == 0 and own_load:
             g0 = self.node_load(X[:, 0], 0)
             if g0 is not None:
@@ -228,7 +234,7 @@ class _Cable:
                 if not (k == k_min and allow_first):
                     new &= P[:, k, 2] < 0.0
                 td[new] = k
-        if self.makeup is not None:
+        if not self.uniform:
             return X, T, P, td, G
         if stop_on_touchdown:
             return X, T, P, td

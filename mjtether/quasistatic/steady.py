@@ -250,7 +250,17 @@ def _coarse(tether):
     if isinstance(tether, TetherSpec):
         return replace(tether, segments=n)
     sections = tuple(replace(s, segments=max(1, round(s.segments * n / tether.segments))) for s in tether.sections)
-    return LineMakeup(sections, tether.loads)
+    return replace(tether, sections=sections)
+
+
+def _solver_line(tether) -> TetherSpec | LineMakeup:
+    """What the solver marches for ``tether`` (a ``TetherSpec`` or a ``LineMakeup``): a uniform
+    line as its ``TetherSpec`` (the scalar path: the closed-form first guess, the slack state,
+    the drag continuation), any other make-up as it is (the piecewise march)."""
+    line = LineMakeup.of(tether, "steady_state.tether")
+    if not line.is_uniform:
+        return line
+    return tether if isinstance(tether, TetherSpec) else line.tether
 
 
 def steady_state(tether: TetherSpec | LineMakeup, water: WaterColumn, top, bottom=None, *, top_force=None,
@@ -285,24 +295,24 @@ def steady_state(tether: TetherSpec | LineMakeup, water: WaterColumn, top, botto
             seen from above) for "arc", +/- half of it for "s".
 
     ``tether`` is a uniform ``TetherSpec`` or a ``LineMakeup`` (sections, point loads, float
-    sections; see "Line make-ups" in the module docstring). For a make-up, ``EA`` = "tether"
-    takes each section's own EA, a number or ``None`` replaces them all.
+    sections; see "Line make-ups" in the module docstring; a uniform one, one section without
+    loads, is solved as its ``TetherSpec``). For a make-up, ``EA`` = "tether" takes each
+    section's own EA, a number or ``None`` replaces them all.
 
     Raises ``ValueError`` on bad input or when the cable would rest on the seabed between two
     suspended parts (mid-span touchdown is not modelled), ``RuntimeError`` if Newton fails,
     ``NotImplementedError`` for a non-uniform make-up that finds no taut solution with its bottom
     end on the seabed (it may be slack there, which is modelled for uniform lines only).
     """
-    makeup = tether if isinstance(tether, LineMakeup) else None
-    if makeup is None and not isinstance(tether, TetherSpec):
-        raise ValueError(f"tether must be a TetherSpec or a LineMakeup, got {type(tether).__name__}")
+    tether = _solver_line(tether)
+    uniform = isinstance(tether, TetherSpec)
     if not isinstance(water, WaterColumn):
         raise ValueError(f"water must be a WaterColumn, got {type(water).__name__}")
     v_tow = _checks.vector3("steady_state.tow_velocity", tow_velocity)
     cb = _checks.non_negative("steady_state.seabed_friction", seabed_friction)
     _checks.positive("steady_state.tol", tol)
     if EA == "tether":
-        EA = tether.EA if makeup is None else "tether"
+        EA = tether.EA if uniform else "tether"
     elif EA is not None:
         EA = _checks.positive("steady_state.EA", EA, "N")
     if not isinstance(layout, str) or layout not in LAYOUTS:
@@ -332,10 +342,10 @@ def steady_state(tether: TetherSpec | LineMakeup, water: WaterColumn, top, botto
         x0 = _checks.vector3("steady_state.bottom" if upward else "steady_state.top", bottom if upward else top)
         F = _checks.vector3("steady_state.bottom_force" if upward else "steady_state.top_force",
                             bottom_force if upward else top_force)
-        if makeup is None:
+        if uniform:
             X, T, P = cable.march(x0[None], F[None])
         else:  # a make-up marched up is the reversed make-up marched down
-            c = _Cable(makeup.reversed(), water, v_tow, EA) if upward else cable
+            c = _Cable(tether.reversed(), water, v_tow, EA) if upward else cable
             X, T, P, *_ = c.march(x0[None], F[None])
         X, T, P = X[0], T[0], P[0]
         if upward:
@@ -362,10 +372,9 @@ def steady_state(tether: TetherSpec | LineMakeup, water: WaterColumn, top, botto
                          f"{chord:.6g} m between its ends")
     contact = bool(seabed) and abs(bottom[2] - seabed_z) <= 1e-3
     problem = dict(top=top, bottom=bottom, contact=contact, seabed_z=seabed_z, cb=cb, seabed=bool(seabed))
-    if makeup is not None:
+    if not uniform:
         problem["top_contact"] = bool(seabed) and abs(top[2] - seabed_z) <= 1e-3
     guess = None if guess is None else _checks.vector3("steady_state.guess", guess)
-    uniform = makeup is None or makeup.is_uniform
     if contact and uniform:  # slack if it can be (module docstring), else straight-laid
         ss = _slack_state(cable, top, bottom, seabed_z, (layout, layout_b, layout_angle), tol, max_iterations, vel)
         if ss is not None:
@@ -435,7 +444,7 @@ def _straight_state(tether, water, v_tow, EA, pb, guess, tol, max_iterations, ve
             raise
         F = _drag_continuation(tether, water, v_tow, EA, pb, tol, max_iterations, first_guess)
         cable, F, J, shot, r = _cascade(tether, water, v_tow, EA, pb, F, tol, max_iterations, first_guess)
-    if cable.makeup is not None:
+    if not cable.uniform:
         return _makeup_state(cable, pb, F, J, shot, r, vel)
     X, T, P, td = shot
     if contact and td >= 0:
@@ -449,7 +458,7 @@ def _straight_state(tether, water, v_tow, EA, pb, guess, tol, max_iterations, ve
 
 def _shoot(cable: _Cable, pb: dict, F: np.ndarray):
     """Residuals (m), shape (K, 3), of the shots with top forces ``F`` (K, 3), and the marches."""
-    if cable.makeup is not None:
+    if not cable.uniform:
         return _shoot_makeup(cable, pb, F)
     K = F.shape[0]
     X, T, P, td = cable.march(np.tile(pb["top"], (K, 1)), F, stop_on_touchdown=True)
@@ -481,7 +490,7 @@ def _residuals(cable: _Cable, pb: dict, X, T, P, td, r) -> None:
 def _force_scale(cable: _Cable, top, bottom) -> float:
     """A force (N) of the order of the tether's loads: weight or drag on its whole length."""
     zs = np.linspace(min(top[2], 0.0), min(bottom[2], 0.0), 8)
-    if cable.makeup is not None:
+    if not cable.uniform:
         rho = float(cable.water.rho(zs[4:5])[0])
         u = float(np.max(np.linalg.norm(cable.water.velocity(zs) - cable.v_tow, axis=1)))
         w = float(np.max(np.abs(cable.mu_e - rho * cable.A_e))) * cable.g
@@ -503,7 +512,7 @@ def _first_guess(cable: _Cable, top, bottom, contact: bool = False, cb: float = 
     the weight down plus the force scale along the chord; with the top's share of the current's
     drag added (``_drag_share``)."""
     drag = _drag_share(cable, top, bottom)
-    if cable.makeup is not None:
+    if not cable.uniform:
         return _first_guess_makeup(cable, top, bottom, contact, cb, top_contact) + drag
     d = bottom - top
     w = (cable.mu - float(cable.water.rho(np.array([0.5 * (top[2] + bottom[2])]))[0]) * cable.A) * cable.g

@@ -14,6 +14,7 @@ import bisect
 import math
 from dataclasses import dataclass, field
 
+import mujoco
 import numpy as np
 from scipy.optimize import lsq_linear
 
@@ -43,7 +44,10 @@ class Ship:
 
     Modes: ``fixed`` (dynamic positioning), ``follow`` (keeps ``offset`` from the robot, moving
     at most at ``speed``), ``waypoints`` (visits them in order at ``speed``); the fairlead may
-    heave sinusoidally."""
+    heave sinusoidally (``heave_amplitude``, ``heave_period``), or ride on the ship's
+    wave-frequency motion (``motion``: a ``physics.vessel_motion.ShipMotion`` from the ship's
+    RAOs in the scenario's sea, the fairlead at ``fairlead_body`` m in ship axes from its
+    reference point), added to its path."""
 
     mode: str
     position: np.ndarray
@@ -53,13 +57,38 @@ class Ship:
     heave_amplitude: float
     heave_period: float
     _wp: int = field(default=0)
+    motion: object = None
+    fairlead_body: np.ndarray = field(default_factory=lambda: np.zeros(3))
+    heading: float = 0.0  # rad, the ship's +x in the world (the RAOs' ship axes)
 
     @classmethod
-    def from_scenario(cls, sc) -> "Ship":
+    def from_scenario(cls, sc, waves=None) -> "Ship":
+        """The scenario's ship; ``waves``: the sea (``physics.waves.WaveField``) its RAOs
+        (``ship.motion``) answer, None for a flat sea (no wave-frequency motion)."""
         s = sc.ship
-        return cls(s.mode, np.array([*s.position, s.fairlead_z]), np.array([*s.offset, 0.0]),
+        ship = cls(s.mode, np.array([*s.position, s.fairlead_z]), np.array([*s.offset, 0.0]),
                    [np.array([*p, s.fairlead_z]) for p in (s.waypoints or ())], s.speed, s.heave_amplitude,
                    s.heave_period)
+        if s.motion.type == "rao" and waves is not None:
+            from mjtether.physics.vessel_motion import RAOTable, ShipMotion
+            h, r = math.radians(s.heading_deg), np.array(s.motion.fairlead_m, dtype=float)
+            origin = np.array(s.position) - [math.cos(h) * r[0] - math.sin(h) * r[1],
+                                             math.sin(h) * r[0] + math.cos(h) * r[1]]
+            ship.motion = ShipMotion(RAOTable.from_csv(s.motion.rao_file), waves.components, h, origin=origin)
+            ship.fairlead_body, ship.heading = r, h
+        return ship
+
+    def wave_motion(self, t: float) -> tuple[np.ndarray, np.ndarray]:
+        """The fairlead's displacement (m) and velocity (m/s), world, from its path at time
+        ``t`` (s): the sinusoidal heave, or the RAOs' response (zeros without either)."""
+        if self.motion is not None:
+            m = self.motion.point(self.fairlead_body, t)
+            return m.offset, m.velocity
+        if not self.heave_amplitude:
+            return np.zeros(3), np.zeros(3)
+        w = 2 * math.pi / self.heave_period
+        return (np.array([0.0, 0.0, self.heave_amplitude * math.sin(w * t)]),
+                np.array([0.0, 0.0, self.heave_amplitude * w * math.cos(w * t)]))
 
     def advance(self, dt: float, t: float, robot: np.ndarray) -> np.ndarray:
         """Move the ship over ``dt`` (s) and return the fairlead position."""
@@ -78,15 +107,26 @@ class Ship:
             if dist > 0:
                 p = p + step * min(1.0, self.speed * dt / dist)
             self.position = p
+        if self.motion is not None:
+            return p + self.motion.point(self.fairlead_body, t).offset
         if not self.heave_amplitude:
             return p
         heave = self.heave_amplitude * math.sin(2 * math.pi * t / self.heave_period)
         return p + (0.0, 0.0, heave)
 
     def update(self, run, t: float, dt: float) -> None:
-        """Move the ship's mocap body, following the robot's tow point where it follows."""
+        """Move the ship's mocap body, following the robot's tow point where it follows (with
+        RAOs, turned by the ship's roll, pitch and yaw about the fairlead: the fairlead's motion
+        is the RAOs' at its place, the hull drawn about it)."""
         tow = run.robot_position if run.named.tow_site is None else run.sim.data.site_xpos[run.named.tow_site]
-        run.sim.data.mocap_pos[run.named.ship_mocap] = self.advance(dt, t, tow)
+        d = run.sim.data
+        d.mocap_pos[run.named.ship_mocap] = self.advance(dt, t, tow)
+        if self.motion is not None:
+            small, q = np.zeros(4), np.zeros(4)
+            mujoco.mju_euler2Quat(small, self.motion.pose(t)[3:], "xyz")  # (roll, pitch, yaw in ship axes)
+            h = self.heading
+            mujoco.mju_mulQuat(q, np.array([math.cos(h / 2), 0.0, 0.0, math.sin(h / 2)]), small)
+            d.mocap_quat[run.named.ship_mocap] = q
 
 
 class WinchDrive:

@@ -24,8 +24,9 @@ def estimate(sc, max_length: float | None = None) -> dict:
     elements = max(t.segments, int(math.ceil(max_length / l0 - 0.5)) + 1)  # builder.drum_capacity
     steps = s.duration / s.timestep
     samples = s.duration / s.output_interval + 1
+    from .robot_ends import ROBOT_ENDS
     a, b, walker = US_PER_STEP
-    us = a + b * elements + (walker if sc.robot.type == "walker" else 0.0)
+    us = a + b * elements + (walker if ROBOT_ENDS[sc.robot.type].walker else 0.0)
     per_sample = 8 * (3 * (elements + 1) + 2 * elements + 32)
     return {"steps": steps, "samples": samples, "elements": elements, "us_per_step": us,
             "wall_hours": steps * us * 1e-6 / 3600.0, "output_gb": samples * per_sample / 1e9}

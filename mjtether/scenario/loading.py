@@ -23,8 +23,8 @@ def load_scenario(path=None, *, text: str | None = None, data: dict | None = Non
     ``mjtether run --set`` does; an item may also be a pair (``"key.path=value"``, the label to
     blame, e.g. ``"--duration 5"``). ``name`` labels errors (default: the file name); an error in
     a key an override set names the override instead (``--set tether.length=abc: ...``). A
-    relative ``water.bathymetry`` in a file is taken beside the file; one given in ``overrides``,
-    from the working folder."""
+    relative ``water.bathymetry`` or ``ship.motion.rao_file`` in a file is taken beside the file;
+    one given in ``overrides``, from the working folder."""
     if path is not None and text is None and data is None:
         from mjtether.files.packagedata import shipped_example
         path = shipped_example(path) or path  # (a shipped example by name: "default_walker")
@@ -36,10 +36,11 @@ def load_scenario(path=None, *, text: str | None = None, data: dict | None = Non
         raw = _parse(name, _read(name, path) if text is None else text)
     else:
         raw = {}
-    water = raw.get("water")
-    if path is not None and isinstance(water, dict) and isinstance(water.get("bathymetry"), str) \
-            and water["bathymetry"] and not Path(water["bathymetry"]).is_absolute():
-        water["bathymetry"] = str(Path(path).resolve().parent / water["bathymetry"])  # (beside the scenario)
+    if path is not None:  # (the files a scenario names, beside it)
+        for table, key in ((raw.get("water"), "bathymetry"), ((raw.get("ship") or {}).get("motion"), "rao_file")):
+            if isinstance(table, dict) and isinstance(table.get(key), str) and table[key] \
+                    and not Path(table[key]).is_absolute():
+                table[key] = str(Path(path).resolve().parent / table[key])
     labels = {}  # {key path: what set it} for the overrides
     for item in overrides:
         item, label = item if isinstance(item, tuple) else (item, f"--set {item}")

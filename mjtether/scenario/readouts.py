@@ -155,18 +155,18 @@ class Readouts:
         """Mocap index of the ship's body (-1 for a vessel, ``ship.vessel``: a body of its own)."""
         self._ship_body = m.body("ship").id
         # a robot with a body of its own: the walker (its torso) or a vehicle (its hull)
-        self._bodied = run.walker or run.is_vehicle
-        prefix = "walker" if run.walker else "vehicle"
-        self.torso = m.body("walker/torso" if run.walker else "vehicle").id if self._bodied else None
+        end = run.scene.robot_end
+        self._bodied = end.body is not None
+        self.torso = m.body(end.body).id if self._bodied else None
         """Body id of the robot: the walker's torso or the vehicle's hull (None for an anchor)."""
-        self.tow_site = m.site(f"{prefix}/tow_point").id if self._bodied else None
+        self.tow_site = m.site(end.site).id if self._bodied else None
         """Site id of the robot's tow point (None for an anchor)."""
         self._vel6 = np.zeros(6)
         # the tangle monitor's vehicles: (body id, hull end a, hull end b, radius, points (body frame),
         # excluded arc m, cable tied at its last node?)
         self.hulls = []
-        if run.is_vehicle:
-            self.hulls.append(_hull(m.body("vehicle").id, run.scene.vehicle, True))
+        if run.scene.vehicle is not None:  # a vehicle robot's hull (``robot_ends.Vehicle``)
+            self.hulls.append(_hull(m.body(end.body).id, run.scene.vehicle, True))
         if run.scene.vessel is not None:
             self.hulls.append(_hull(self._ship_body, run.scene.vessel, False))
         self.last_tangle = None

@@ -1,16 +1,20 @@
-"""A scenario's run loop: ``run`` steps a ``ScenarioRun`` to its end, recording a row of
-``RECORD_FIELDS`` and every element at each output sample, with the monitors it checks there
-(``TangleMonitor``, ``SurfaceWatch``) and the video's frames as they fall due."""
+"""A scenario's run: ``run`` steps a ``ScenarioRun`` to its end by the run loop every system
+shares (``simulation.drive``), recording a row of ``RECORD_FIELDS`` and every element at each
+output sample, with the watches it checks there (``TangleMonitor``, ``SurfaceWatch``) and the
+video's frames as they fall due."""
 
 from __future__ import annotations
 
 import math
 import time
+from typing import NamedTuple
 
 import numpy as np
 
+from mjtether.simulation import drive
+
 from . import Scenario
-from .runner import STATE_FIELDS, RunFailed, ScenarioRun
+from .runner import RECORD_FIELDS, STATE_FIELDS, ScenarioRun
 
 
 class TangleMonitor:
@@ -85,22 +89,39 @@ class SurfaceWatch:
         return False
 
 
-def run(sc: Scenario, progress=None, keep_nodes: bool = True, video=None, on_start=None, on_end=None):
-    """Simulate ``sc``; returns (rows (n, len(RECORD_FIELDS)), history, info). ``history`` has
+class ScenarioResult(NamedTuple):
+    """What ``run`` returns (``rows, history, info = run(sc)`` still unpacks it): ``rows``
+    (samples, len(RECORD_FIELDS)), ``history`` (the elements and the MuJoCo state at the samples)
+    and ``info`` (how the run went)."""
+
+    rows: np.ndarray
+    history: dict
+    info: dict
+
+
+def run(sc: Scenario, progress=None, keep_nodes: bool = True, video=None, on_start=None,
+        on_end=None) -> ScenarioResult:
+    """Simulate ``sc`` (``simulation.drive``, every system's run loop, stepping it); returns
+    ``ScenarioResult(rows, history, info)``: ``rows`` (n, len(RECORD_FIELDS)), one per
+    ``simulation.output_interval`` from the start and at the end (a duration that is not a whole
+    number of intervals ends with a shorter one). ``history`` has
     ``nodes`` (n, e+1, 3) m, ``tension`` (n, e) N, ``element_length`` (n, e) m and
     ``compression`` (n, e) N (the largest push since the previous sample) for every one
     of the e elements allocated (numbered from the drum's core; see ``element_record``), each
     sample (only the first with ``keep_nodes=False``), and ``qpos``, ``mocap_pos`` and ``mocap_quat``
-    (``ScenarioRun.state``) at the same samples.
+    (``ScenarioRun.state``) at the same samples. At each sample the tangle monitor
+    (``TangleMonitor``, with a tether) and the surface watch (``SurfaceWatch``, a submerged
+    vehicle) are checked, and either may stop the run (``info["stopped"]`` says why).
     ``progress(k, n)`` is called as it goes. ``video(runner)`` makes a ``render.VideoRecorder``
     for the built run; frames are then taken as they fall due and the file is finished, or
     deleted if the run fails. ``on_start(runner)`` is called once the run is built and started,
     ``on_end(runner)`` after its last step (not if it fails), e.g. to read what the records do
-    not hold. Raises ``RunFailed`` (or ``SimulationDiverged``)."""
+    not hold. Raises ``RunFailed`` or ``SimulationDiverged`` (a record that became non-finite
+    too)."""
     dt = sc.simulation.timestep
     n_steps = int(round(sc.simulation.duration / dt))
     every = max(1, int(round(sc.simulation.output_interval / dt)))
-    rows, hist, states = [], [], []
+    hist, states = [], []
     t0 = time.perf_counter()
     runner = ScenarioRun(sc)
     rec = None
@@ -108,39 +129,29 @@ def run(sc: Scenario, progress=None, keep_nodes: bool = True, video=None, on_sta
         if on_start is not None:
             on_start(runner)
         rec = video(runner) if video is not None else None
-        rows.append(runner.record())
-        hist.append(runner.element_record())
-        states.append(runner.state())
+        watches = []
         monitor = TangleMonitor(sc.tangle) if runner.tethered else None
         if monitor is not None:
-            monitor.check(runner)
+            watches.append(lambda: monitor.check(runner))
         surface = None
         if runner.vehicle is not None and runner.vehicle.hydro.surface is None:
             surface = SurfaceWatch(runner.vehicle, sc.robot.stop_at_surface)
-            surface.check(runner)
-        if rec is not None and rec.due(runner.sim.time):
-            rec.capture()
-        for k in range(1, n_steps + 1):
-            runner.step()
-            stop = False
-            if k % every == 0:
-                rows.append(runner.record())
-                if keep_nodes:
-                    hist.append(runner.element_record())
-                    states.append(runner.state())
-                stop = monitor is not None and monitor.check(runner)
-                stop = (surface is not None and surface.check(runner)) or stop
-            if rec is not None and rec.due(runner.sim.time):
-                rec.capture()
-            if progress and (k % every == 0 or k == n_steps or stop):
-                progress(k, n_steps)
-            if stop:
-                n_steps = k
-                break
+            watches.append(lambda: surface.check(runner))
+
+        def sample():
+            row = runner.record()
+            if keep_nodes or not hist:
+                hist.append(runner.element_record())
+                states.append(runner.state())
+            return row
+
+        def advance(k):
+            for _ in range(k):
+                runner.step()
+
+        rows, n_steps = drive(advance, n_steps, every, sample, clock=lambda: runner.sim.time, watches=watches,
+                              video=rec, progress=progress, names=[name for name, _, _ in RECORD_FIELDS])
         wall = time.perf_counter() - t0
-        rows = np.array(rows)
-        if not np.all(np.isfinite(rows)):
-            raise RunFailed("the run produced non-finite values")
         if on_end is not None:
             on_end(runner)
         if rec is not None:
@@ -170,4 +181,4 @@ def run(sc: Scenario, progress=None, keep_nodes: bool = True, video=None, on_sta
                "element_length": np.array([h[2] for h in hist]), "compression": np.array([h[3] for h in hist])}
     for k, key in enumerate(STATE_FIELDS):
         history[key] = np.array([st[k] for st in states])
-    return rows, history, info
+    return ScenarioResult(rows, history, info)

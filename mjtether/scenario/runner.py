@@ -4,6 +4,8 @@ A ``ScenarioRun`` is made of small parts a reader can follow from TOML to CSV:
 
 * ``scene``: the typed configuration as an ``MjSpec`` (water, seabed, ship, the robot end) and
   the library's objects (water column, tether or line make-up, winch, ship kinematics);
+* ``robot_ends``: the robot end as a part (walker, anchor or vehicle): its bodies, its tow point
+  at the start, the tether's end on it, its hold while the cable settles, its gait or pilot;
 * ``start``: the walker's standing pose, the tether's quasi-static steady state (or a settling
   start), the pre-roll that loads the seabed contacts before t = 0;
 * ``controllers``: the gait, the ship and the winch, each updated before every physics step;
@@ -18,7 +20,6 @@ from __future__ import annotations
 import math
 import warnings
 
-import mujoco
 import numpy as np
 
 from mjtether.cable import builder, softening, stability
@@ -28,26 +29,16 @@ from mjtether.simulation import Simulation
 
 from .controllers import GaitDrive, Manoeuvre, PathDrive, Ship, VehiclePilot, VesselFollow, WinchDrive  # noqa: F401 - Ship: the run's ship kinematics
 from .readouts import RECORD_FIELDS, Readouts, roll_pitch  # noqa: F401 - the record's columns
-from .scene import (  # noqa: F401  # noqa: F401
+from .robot_ends import ROBOT_ENDS, manoeuvre_from  # noqa: F401 - the robot ends; where manoeuvre_from was
+from .scene import (  # noqa: F401 - where they were found before
     VEHICLE,
     build_scene,
     heading_quat,
     makeup_from,
     tether_from,
-    vehicle_tow_point,
     water_from,
     winch_from,
 )
-
-
-def manoeuvre_from(robot, vs) -> Manoeuvre | None:
-    """The scenario's manoeuvre (``robot.manoeuvre``) for the vehicle ``vs``, or None."""
-    if robot.manoeuvre == "none":
-        return None
-    yaw = sum(f.yaw_per_angle for f in vs.fins)  # a positive rudder's yaw moment: its sign turns the vehicle
-    return Manoeuvre(robot.manoeuvre, robot.manoeuvre_start_s, math.radians(robot.rudder_deg),
-                     math.radians(robot.zigzag_heading_deg), [math.radians(a) for a in robot.spiral_rudders_deg],
-                     robot.spiral_step_s, turn_sign=math.copysign(1.0, yaw))
 
 
 STATE_FIELDS = ("qpos", "mocap_pos", "mocap_quat")
@@ -79,27 +70,12 @@ class ScenarioRun:
         self.line, self.winch, self.ship, self.walker = scene.line, scene.winch, scene.ship, scene.walker
         dt = sc.simulation.timestep
         spec = scene.spec
-        self.gait_drive = self.pilot = self.vehicle = None
-        self.is_vehicle = scene.vehicle is not None
-        if self.walker:
-            r = sc.robot
-            commands = np.array(r.commands, dtype=float)  # (s, m/s, rad/s)
-            commands[:, 2] = np.radians(commands[:, 2])
-            self.gait_drive = GaitDrive(commands, r.gait_period, scene.heading)
-            if replay:  # (about where it stands: the replay puts it where it was)
-                self.stand_pose, self.stand_ctrl = {}, {}
-                robot = np.array([*r.start, float(scene.seabed_z(*r.start)) + 1.0])
-            else:
-                # the walker stands on the seabed first, alone; the tether's steady state is solved to
-                # its tow point standing, and the run starts with the walker in that pose
-                self.stand_pose, self.stand_ctrl, robot = start.stand_walker(scene, self.gait_drive.gait, dt)
-            end = builder.SitePoint("walker/tow_point")
-        elif self.is_vehicle:  # the tether is solved to its tow point at the start
-            robot = vehicle_tow_point(scene)
-            end = builder.SitePoint(f"{VEHICLE}/tow_point")
-        else:
-            robot = scene.anchor_point()
-            end = builder.FixedPoint(robot)
+        self.robot_end = end = scene.robot_end  # the walker, the anchor or the vehicle (``robot_ends``)
+        self.is_vehicle, self.gait_drive, self.pilot, self.vehicle = end.is_vehicle, end.gait_drive, None, None
+        # the tether's steady state is solved to the robot's tow point at the start: the walker's
+        # standing (it stands on the seabed first, alone, and the run starts in that pose)
+        robot = end.tow_point(scene, dt, replay)
+        self.stand_pose, self.stand_ctrl = end.stand_pose, end.stand_ctrl
         self.robot_position = robot
         self.tethered = sc.tether.attached
         top = scene.fairlead_start()
@@ -120,8 +96,7 @@ class ScenarioRun:
             settle = False
         elif how == "settle" or (how == "auto" and self.initial is None):
             settle, self.initial = True, None
-            held = "on its autopilot" if self.is_vehicle else "held"
-            self.initial_note = f"settled with the robot {held}" + (
+            self.initial_note = f"settled with the robot {end.held}" + (
                 "" if how == "settle" else f" (no steady state: {self.initial_note})")
         elif self.initial is None:
             settle_hint = "" if self.initial_note.startswith("tether.length") else (
@@ -135,22 +110,20 @@ class ScenarioRun:
         if drape:
             self.initial_note += (" on a level seabed at the tow point's depth, then settled onto the seabed with "
                                   "the robot held")
-        if (settle or drape) and self.walker:  # held in place while the cable settles
-            hold = spec.add_equality(name="walker/hold", type=mujoco.mjtEq.mjEQ_WELD, objtype=mujoco.mjtObj.mjOBJ_BODY,
-                                     name1="walker/torso")
-            hold.active = True
+        if settle or drape:  # held in place while the cable settles (the walker's weld)
+            end.hold(spec)
         self.tm = None
         if self.tethered:
             if empty:  # every node at the fairlead; set_length(0) below stows them on the drum
                 nodes = np.tile(top, (self.line.segments + 1, 1))
             else:
                 nodes = start.fallback_nodes(scene, top, robot) if settle or replay else self.initial.nodes
-            self.tm = builder.add_tether(spec, self.line, builder.SitePoint("ship/fairlead"), end,
+            self.tm = builder.add_tether(spec, self.line, builder.SitePoint("ship/fairlead"), end.tether_end(),
                                          water=self.water, nodes=nodes, seabed_friction=sc.tether.seabed_friction,
                                          seabed_stiffness=sc.water.seabed_stiffness or None,
                                          seabed_damping=sc.water.seabed_damping,
-                                         max_length=None if self.makeup is not None else self.winch.max_length,
-                                         end_at=robot if self.walker or self.is_vehicle else None,
+                                         max_length=self.winch.max_length if self.makeup.pays_out else None,
+                                         end_at=end.end_at(robot),
                                          added_mass=sc.tether.added_mass,
                                          start_at=top)  # (the fairlead's place: no compile to find it)
         self.sim = Simulation(spec, self.water, tethers=[self.tm] if self.tethered else [], bodies=scene.bodies,
@@ -160,32 +133,8 @@ class ScenarioRun:
         try:
             if scene.vessel is not None:  # the vessel: level at its start heading, on its autopilot
                 self.ship_pilot = self._vessel_pilot(scene)
-            if self.is_vehicle:  # level, at its start heading, at rest
-                m = self.sim.model
-                adr = m.joint(f"{VEHICLE}/ball").qposadr[0]
-                self.sim.data.qpos[adr:adr + 4] = heading_quat(scene.heading)
-                self.sim.forward()
-                self.vehicle = self.sim.bodies[-1]
-                vs, sp = scene.vehicle, np.array(sc.robot.setpoints, dtype=float)
-                sp[:, 2] = np.radians(sp[:, 2])
-                acts = np.array([m.actuator(f"{VEHICLE}/{t.name}").id for t in vs.thrusters], dtype=int)
-                r = sc.robot
-                fins = np.array([m.actuator(f"{VEHICLE}/{f.name}").id for f in vs.fins], dtype=int)
-                prop = None if vs.propeller is None else m.actuator(f"{VEHICLE}/{vs.propeller.name}").id
-                if r.path is not None:  # moved along its path instead of flown
-                    rows = np.array(r.path, dtype=float)
-                    rows[:, 2:] = np.radians(rows[:, 2:])
-                    self.pilot = PathDrive(rows, r.position, r.position, m, self.vehicle)
-                else:
-                    self.pilot = VehiclePilot(sp, vs.autopilot, vs.thrusters, acts, route=r.waypoints,
-                                              start=r.position, lookahead=r.lookahead,
-                                              acceptance_radius=r.acceptance_radius, fins=vs.fins, fin_actuators=fins,
-                                              propeller=vs.propeller, propeller_actuator=prop,
-                                              manoeuvre=manoeuvre_from(r, vs), surface=vs.hydro.surface is not None,
-                                              los_integral_gain=r.los_integral_gain,
-                                              interpolate=r.setpoint_interpolation == "linear",
-                                              pitch_schedule=None if r.pitch_schedule is None else
-                                              [(t, math.radians(a)) for t, a in r.pitch_schedule])
+            end.start(self)  # a vehicle level at its start heading, at rest, and its pilot; the gait bound
+            self.pilot, self.vehicle = end.pilot, end.vehicle
             if self.initial is not None and not drape:  # the steady state's seabed friction, carried into the run
                 self.sim.tether().preload_friction(self.sim.data, self.initial.tension)
             self.bt = self.sim.tether() if self.tethered else None
@@ -199,12 +148,10 @@ class ScenarioRun:
                 self.sim.forward()
             self.named = Readouts(self)
             self.torso, self.tow_site = self.named.torso, self.named.tow_site
-            if self.gait_drive is not None:
-                self.gait_drive.bind(self.sim.model, self.sim.data, self.torso)
             # the order they act in at each step: the gait or autopilot, then the ship, then the winch
             winch = WinchDrive(self.winch) if self.tethered else None
             ship = self.ship if self.ship_pilot is None else self.ship_pilot
-            self.controllers = [c for c in (self.gait_drive, self.pilot, ship, winch) if c is not None]
+            self.controllers = [c for c in (*end.controllers, ship, winch) if c is not None]
             # (alone, or on an empty drum, a vehicle starts as placed: there are no contacts to load)
             if self.tethered and not empty and not replay:
                 start.preroll(self, settle or drape, until_still=drape,
@@ -226,8 +173,8 @@ class ScenarioRun:
         elastic = np.isfinite(asked)
         report = softening.softening(asked[elastic], self.bt.effective_EA[elastic]) if elastic.any() else None
         if report is not None and report["ratio"] < softening.SOFT:
-            if self.makeup is None:
-                keep = (f"; simulation.timestep = {stability.ea_timestep(self.tether_spec, self.water):.3g} s or "
+            if self.makeup.is_uniform:
+                keep = (f"; simulation.timestep = {stability.ea_timestep(self.makeup.tether, self.water):.3g} s or "
                         "less keeps it")
             else:
                 keep = f"; a step {report['ratio'] ** 0.5:.3g} times this one keeps it"

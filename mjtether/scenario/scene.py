@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import mujoco
 import numpy as np
@@ -33,6 +34,10 @@ from mjtether.walker import HYDRO as WALKER_HYDRO
 from mjtether.walker import walker_spec
 
 from .controllers import Ship
+from .sea import wave_field
+
+if TYPE_CHECKING:
+    from .robot_ends import RobotEnd
 
 WALKER_STAND_HEIGHT = 0.9
 """Height (m) of the walker's torso above the seabed when it is placed."""
@@ -44,7 +49,8 @@ VEHICLE = "vehicle"
 
 
 def water_from(sc: Scenario) -> wm.WaterColumn:
-    """The scenario's water column (headings from degrees to radians)."""
+    """The scenario's water column (headings from degrees to radians), with its sea state
+    (``[waves]``: ``sea.wave_field``)."""
     d = sc.water.density
     if d.type == "constant":
         density = wm.ConstantDensity(d.rho)
@@ -53,7 +59,7 @@ def water_from(sc: Scenario) -> wm.WaterColumn:
     else:
         density = wm.TabulatedDensity(d.depths, d.values)
     return wm.WaterColumn(depth=sc.water.depth, density=density, current=current_from(sc.water.current, sc.water.depth),
-                          gravity=sc.water.gravity)
+                          gravity=sc.water.gravity, waves=wave_field(sc.waves, sc.water.depth, sc.water.gravity))
 
 
 def current_from(c, depth: float):
@@ -81,13 +87,14 @@ def tether_from(sc: Scenario) -> TetherSpec:
                       added_mass=t.added_mass, drag_law=t.drag_law)
 
 
-def makeup_from(sc: Scenario) -> LineMakeup | None:
-    """The scenario's line make-up (sections, point loads, floats), or None for a uniform tether.
-    Point loads and floats on a uniform tether make a one-section make-up of it."""
+def makeup_from(sc: Scenario) -> LineMakeup:
+    """The scenario's line make-up (sections, point loads, floats); a uniform tether is its
+    one-section make-up (``LineMakeup.uniform``), with point loads and floats on it if any."""
     t = sc.tether
+    uniform = LineMakeup.uniform(tether_from(sc))
     if not t.is_makeup:
-        return None
-    sections = [x.to_makeup() for x in t.sections] or list(LineMakeup.uniform(tether_from(sc)).sections)
+        return uniform
+    sections = [x.to_makeup() for x in t.sections] or list(uniform.sections)
     return LineMakeup(sections, [p.to_makeup() for p in (*t.point_loads, *t.floats)])
 
 
@@ -106,13 +113,12 @@ class Scene:
     spec: mujoco.MjSpec
     water: wm.WaterColumn
     tether_spec: TetherSpec
-    makeup: LineMakeup | None
+    makeup: LineMakeup  # the line (a uniform tether: its one section)
     winch: Winch
     ship: Ship
     slope: float  # rad
     slope_heading: float  # rad
-    walker: bool
-    heading: float | None  # rad, the walker's or vehicle's heading at the start
+    robot_end: RobotEnd  # the walker, the anchor or the vehicle (``robot_ends``)
     bodies: list = field(default_factory=list)  # rigid-body hydrodynamics (a vessel, the walker's torso, a vehicle)
     vehicle: VehicleSpec | None = None  # a vehicle robot's parameter file
     vessel: VehicleSpec | None = None  # the surface vessel carrying the winch (ship.vessel), if any
@@ -121,8 +127,8 @@ class Scene:
 
     @property
     def line(self):
-        """What the quasi-static solver and the builder take: the make-up, or the uniform cable."""
-        return self.makeup if self.makeup is not None else self.tether_spec
+        """What the quasi-static solver and the builder take: the line's make-up."""
+        return self.makeup
 
     @property
     def contact_diameter(self) -> float:
@@ -130,7 +136,7 @@ class Scene:
         (the builder gives the whole flex that radius), so that its axis rests one such radius
         above the seabed. (A make-up's anchor placed one radius of its thinner last section up
         sat inside the contact of the wider ones: 11.8 MN at the anchor.)"""
-        return float(self.makeup.element_diameter.max()) if self.makeup is not None else self.tether_spec.diameter
+        return float(self.makeup.element_diameter.max())
 
     def fairlead_start(self) -> np.ndarray:
         """Where the tether leaves the ship at the start (m, world): the prescribed ship's
@@ -153,33 +159,47 @@ class Scene:
         """The quaternion turning +z onto the seabed's normal (``slope``, ``slope_heading``)."""
         return np.array(builder.slope_quat(self.slope, self.slope_heading))
 
+    @property
+    def walker(self) -> bool:
+        """Whether the robot end is the walker."""
+        return self.robot_end.walker
+
+    @property
+    def heading(self) -> float | None:
+        """The walker's or vehicle's heading at the start (rad; None for an anchor)."""
+        return self.robot_end.heading
+
+    @property
+    def ground(self):
+        """The seabed and water the walker stands on (``robot_ends.Ground``)."""
+        from .robot_ends import Ground
+        return Ground(self.water, self.slope, self.slope_heading, self.sc.water.seabed_friction, self.seabed_z,
+                      self.grid, self.sc.water.bathymetry)
+
     def anchor_point(self) -> np.ndarray:
         """An anchor's tow point (m, world): the scenario's position, the cable's axis held at
-        least one radius above a seabed there."""
-        robot = np.array(self.sc.robot.position, dtype=float)
-        radius = self.contact_diameter / 2
-        robot[2] = max(robot[2], self.seabed_z(robot[0], robot[1]) + radius / math.cos(self.slope))
-        return robot
+        least one radius above a seabed there (``robot_ends.Anchor.tow_point``)."""
+        from .robot_ends import Anchor
+        return Anchor(self.sc.robot).tow_point(self)
 
 
 def build_scene(sc: Scenario) -> Scene:
-    """The scenario's spec (options, seabed, ship, the walker placed on the seabed or the vehicle
-    at its start, if the robot is one) and the objects the run needs; the tether is added by the
-    run."""
+    """The scenario's spec (options, seabed, ship, and the robot end's bodies: the walker placed on
+    the seabed or the vehicle at its start, if the robot is one; ``robot_ends``, the part for
+    ``robot.type``) and the objects the run needs; the tether is added by the run."""
+    from .robot_ends import ROBOT_ENDS  # (robot_ends builds on this module)
     water = water_from(sc)
     wsc = sc.water
-    r = sc.robot
-    walker = r.type == "walker"
+    end = ROBOT_ENDS[sc.robot.type](sc.robot)
     grid = wsc.grid
     if grid is not None:  # the plane of the seabed the walker stands on (or the anchor lies on)
-        x, y = r.start if walker else r.position[:2]
-        slope, slope_heading = grid.plane_at(x, y, WALKER_PATCH)
+        slope, slope_heading = grid.plane_at(*end.place, WALKER_PATCH)
     else:
         slope, slope_heading = math.radians(wsc.seabed_slope_deg), math.radians(wsc.seabed_slope_heading_deg)
     spec = seabed_spec(water, sc.simulation.timestep, wsc.seabed_friction, slope, slope_heading, grid=grid)
-    ship = Ship.from_scenario(sc)
+    ship = Ship.from_scenario(sc, water.waves)
     scene = Scene(sc, spec, water, tether_from(sc), makeup_from(sc), winch_from(sc), ship, slope, slope_heading,
-                  walker, math.radians(r.heading_deg) if r.type in ("walker", "vehicle") else None, grid=grid)
+                  end, grid=grid)
     if sc.ship.vessel:  # a surface vessel carries the winch; its tow point is the fairlead
         scene.vessel = load_vehicle(sc.ship.vessel)
         x, y = sc.ship.position
@@ -190,25 +210,13 @@ def build_scene(sc: Scenario) -> Scene:
         body.add_site(name="ship/fairlead")
         body.add_geom(type=mujoco.mjtGeom.mjGEOM_BOX, size=[4.0, 1.5, 1.0], pos=[0, 0, 1.0], contype=0,
                       conaffinity=0, rgba=[0.8, 0.8, 0.85, 1])
-    if walker:
-        add_walker(scene)
-    elif r.type == "vehicle":
-        scene.vehicle = load_vehicle(r.vehicle)
-        scene.bodies.append(build_vehicle(spec, scene.vehicle, VEHICLE, pos=r.position))
+    end.add_to(scene)
     return scene
 
 
 def heading_quat(heading: float) -> np.ndarray:
     """The quaternion (w, x, y, z) of a turn by ``heading`` (rad) about z: a level body facing it."""
     return np.array([math.cos(heading / 2), 0.0, 0.0, math.sin(heading / 2)])
-
-
-def vehicle_tow_point(scene: Scene) -> np.ndarray:
-    """A vehicle's tow point at the start (m, world): its origin at robot.position, level, at
-    the start heading."""
-    R = np.zeros(9)
-    mujoco.mju_quat2Mat(R, heading_quat(scene.heading))
-    return np.asarray(scene.sc.robot.position, dtype=float) + R.reshape(3, 3) @ np.asarray(scene.vehicle.tow_point)
 
 
 def seabed_spec(water: wm.WaterColumn, timestep: float, friction: float, slope: float = 0.0,
@@ -226,12 +234,6 @@ def seabed_spec(water: wm.WaterColumn, timestep: float, friction: float, slope: 
     else:
         builder.add_seabed(spec, water, friction=friction, slope=slope, slope_heading=slope_heading, point=point)
     return spec
-
-
-def add_walker(scene: Scene) -> None:
-    """Attach the walker at the scenario's start, facing the commanded heading (see ``place_walker``)."""
-    x, y = scene.sc.robot.start
-    scene.bodies.append(place_walker(scene.spec, (x, y, float(scene.seabed_z(x, y))), scene.heading, scene.tilt))
 
 
 def place_walker(spec: mujoco.MjSpec, seabed_point, heading: float, tilt=None):

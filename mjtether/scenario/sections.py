@@ -27,15 +27,8 @@ from mjtether.cable.winch import MODES as WINCH_MODES
 from mjtether.cable.winch import Winch as _Winch
 from mjtether.walker import Tripod
 
-from .config import (
-    INF,
-    RENAMED,
-    ConfigError,
-    Section,
-    param,
-    section,
-    tables,
-)
+from .config import INF, RENAMED, ConfigError, Section, param, section, tables
+from .sea import HeaveCompensation, ShipMotion, Waves
 
 ScenarioError = ConfigError
 
@@ -388,6 +381,7 @@ class Ship(Section):
     speed: float = param(1.0, 0.0, 20.0, "m/s", "waypoints / follow: top speed", knots=True)
     heave_amplitude: float = param(0.0, 0.0, 20.0, "m", "heave of the fairlead (sinusoid)")
     heave_period: float = param(8.0, 0.5, 100.0, "s", "heave period")
+    motion: ShipMotion = section(ShipMotion)
     fairlead_z: float = param(0.0, -1000.0, 0.0, "m", "height of the fairlead (where the tether leaves the ship) "
                               "relative to the water surface; negative below it")
     vessel: str = param("", doc="a surface vessel carrying the winch instead of the prescribed ship: a shipped "
@@ -420,6 +414,7 @@ class Ship(Section):
 @dataclass(frozen=True)
 class Winch(Section):
     PATH = "winch"
+    heave_compensation: HeaveCompensation = section(HeaveCompensation)
     mode: str = param(_Winch.mode, doc="fixed, constant, follow, tension, external or free (see mjtether.cable.winch)",
                       choices=WINCH_MODES)
     min_length: float = param(_Winch.min_length, 0.0, MAX_LENGTH, "m", "shortest deployed length")
@@ -596,6 +591,7 @@ class Scenario(Section):
     winch: Winch = section(Winch)
     robot: Robot = section(Robot)
     tangle: Tangle = section(Tangle)
+    waves: Waves = section(Waves)
 
     def __post_init__(self):
         super().__post_init__()

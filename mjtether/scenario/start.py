@@ -14,7 +14,7 @@ import mujoco
 import numpy as np
 
 from mjtether.cable.makeup import LineMakeup
-from mjtether.cable.tether import MAX_REACH_STRAIN, TetherSpec
+from mjtether.cable.tether import MAX_REACH_STRAIN
 from mjtether.physics import water as wm
 from mjtether.quasistatic import initial_state, steady_state
 from mjtether.simulation import Simulation
@@ -245,8 +245,18 @@ def steady_start(scene: Scene, top, robot, dt: float):
 
 def line_of(scene: Scene) -> LineMakeup:
     """The scenario's line as a make-up: its own, or the uniform tether's one section."""
-    line = scene.line
-    return LineMakeup.uniform(line) if isinstance(line, TetherSpec) else line
+    return LineMakeup.of(scene.line)
+
+
+def cut_line(scene: Scene, length: float) -> LineMakeup:
+    """The top ``length`` m of the scenario's line (all of it, or less its rise to a walker's
+    tow point), as the steady start solves it: a uniform line keeps its N elements, shortened;
+    a make-up keeps its element lengths (``LineMakeup.truncated``: its joints and loads stay on
+    nodes)."""
+    line = line_of(scene)
+    if line.is_uniform:
+        return LineMakeup.uniform(replace(line.tether, length=length))
+    return line.truncated(length)
 
 
 def rise_weight_per_length(scene: Scene, z: float) -> float:
@@ -265,7 +275,7 @@ def _explained(scene: Scene, note: str, robot, length: float, reach: float) -> s
     surface), or an end above the seabed with more cable than reaches it (the excess would lie on
     the seabed between the ends)."""
     t = scene.sc.tether
-    if scene.makeup is None:
+    if not t.is_makeup:  # (the keys of a uniform [tether])
         mass, wet, rho = _wet_weight(scene)
         if wet < 0.0:
             return (f"{note}: {mass} and tether.diameter = {t.diameter:g} m make the tether {-wet:.3g} N/m buoyant "
@@ -332,9 +342,10 @@ def _solve_start(scene: Scene, water, top, robot, dt, length=None):
     geometry needs, up to mu w: see ``BoundTether.preload_friction``).
     Returns (state, note) or (None, why)."""
     cb = scene.sc.tether.seabed_friction
-    if scene.makeup is not None:
-        return _solve_makeup_start(scene, water, top, robot, length)
-    spec = scene.tether_spec if length is None else replace(scene.tether_spec, length=length)
+    line = line_of(scene) if length is None else cut_line(scene, length)
+    if not line.is_uniform:
+        return _solve_makeup_start(scene, water, top, robot, line)
+    spec = line.tether
     sim = scene.sc.simulation
     layout = dict(layout=sim.laid_layout, layout_angle=math.radians(sim.laid_layout_angle_deg))
     if scene.walker:  # slack cable lies back along the walker's track
@@ -361,10 +372,10 @@ def _solve_start(scene: Scene, water, top, robot, dt, length=None):
     return None, f"no steady state (the solver did not converge: {first})"
 
 
-def _solve_makeup_start(scene: Scene, water, top, robot, length=None):
-    """``_solve_start`` for a line make-up: its steady state (``steady_state`` with each
-    section's EA; a slack laid make-up is not solved), with seabed friction, then without."""
-    line = scene.makeup if length is None else scene.makeup.truncated(length)
+def _solve_makeup_start(scene: Scene, water, top, robot, line: LineMakeup):
+    """``_solve_start`` for a line make-up ``line`` (the scene's, cut to the length solved): its
+    steady state (``steady_state`` with each section's EA; a slack laid make-up is not solved),
+    with seabed friction, then without."""
     cb = scene.sc.tether.seabed_friction
     first = None
     for friction, how in ((cb, ""), (0.0, " without seabed friction")) if cb > 0 else ((0.0, ""),):
@@ -383,10 +394,8 @@ def _solve_makeup_start(scene: Scene, water, top, robot, length=None):
 
 def arc_lengths(scene: Scene, length: float) -> np.ndarray:
     """Unstretched arc lengths (m, from the ship) of the nodes of the tether cut to ``length``
-    m (the whole of it, or less its rise to a walker's tow point)."""
-    if scene.makeup is None:
-        return np.linspace(0.0, length, scene.tether_spec.segments + 1)
-    return scene.makeup.truncated(length).node_arc_length
+    m (the whole of it, or less its rise to a walker's tow point): those of ``cut_line``."""
+    return cut_line(scene, length).node_arc_length
 
 
 def fallback_nodes(scene: Scene, top, robot) -> np.ndarray:

@@ -55,17 +55,24 @@ def test_tether_loads_match_the_numpy_kernel(density, current):
     cda = np.where(RNG.random(n) < 0.3, RNG.uniform(0.01, 0.1, n), 0.0)
     codes = compiled.profile_codes(water)
     assert codes is not None
+    # (and with waves: a surface moved over each element and the particle velocity at the Gauss points)
+    waves = (None, None), (RNG.uniform(-0.4, 0.4, n), RNG.normal(scale=0.5, size=(2, n, 3)))
     for share in (0.5, 0.07):
-        ref = hydro.tether_loads(x, v, segment_length=rest, diameter=d, cd_normal=cdn, cd_tangential=cdt,
-                                 rho_fn=water.rho, current_fn=water.velocity, gravity=water.gravity,
-                                 first_share=share, area=area, float_cd_area=cda)
-        rho, u, f = np.empty(2 * n), np.empty((2 * n, 3)), np.full((n + 1, 3), np.nan)
-        compiled.element_water(x, *codes, rho, u)
-        zg = np.minimum(hydro.gauss_heights(x[:, 2]), 0.0).T.ravel()  # (element i's two Gauss points at 2i, 2i + 1)
-        close(rho, water.rho(zg))
-        close(u, water.velocity(zg))
-        compiled.tether_loads(x, v, rest, d, cdn, cdt, area, cda, rho, u, water.gravity, share, f)
-        close(f, ref)
+        for surface, wave_u in waves:
+            ref = hydro.tether_loads(x, v, segment_length=rest, diameter=d, cd_normal=cdn, cd_tangential=cdt,
+                                     rho_fn=water.rho, current_fn=water.velocity, gravity=water.gravity,
+                                     first_share=share, area=area, float_cd_area=cda, surface=surface,
+                                     wave_velocity=wave_u)
+            rho, u, f = np.empty(2 * n), np.empty((2 * n, 3)), np.full((n + 1, 3), np.nan)
+            compiled.element_water(x, *codes, rho, u)
+            zg = np.minimum(hydro.gauss_heights(x[:, 2]), 0.0).T.ravel()  # (element i's two at 2i, 2i + 1)
+            close(rho, water.rho(zg))
+            close(u, water.velocity(zg))
+            if wave_u is not None:
+                u += wave_u.transpose(1, 0, 2).reshape(2 * n, 3)
+            compiled.tether_loads(x, v, rest, d, cdn, cdt, area, cda, rho, u, water.gravity, share, f,
+                                  np.zeros(n) if surface is None else surface)
+            close(f, ref)
 
 
 def test_bending_matches_the_numpy_kernel():
@@ -296,7 +303,7 @@ def test_shot_residuals_match_the_numpy_lay():
     from mjtether.quasistatic import kernels, steady
 
     for cable in _cables():
-        if cable.makeup is not None:
+        if not cable.uniform:
             continue  # (make-ups shoot through _shoot_makeup)
         for EA in (cable.EA, None):
             c = steady._Cable(replace(mt_tether(), EA=EA), cable.water, cable.v_tow, EA)
@@ -353,7 +360,7 @@ def test_hang_up_matches_the_numpy_hang():
     from mjtether.quasistatic import kernels, steady
 
     for cable in _cables():
-        if cable.makeup is not None:
+        if not cable.uniform:
             continue  # (the slack hang is solved for uniform lines)
         fast = steady._hang_up(cable, 201.3, -300.0)
         cable.fast = None
