@@ -131,16 +131,29 @@ class Ship:
 
 class WinchDrive:
     """The winch (``winch.Winch``) on the tether's drum: its law gives the deployed length from
-    the ship-end tension (and, following, the robot's progress along the cable)."""
+    the ship-end tension (and, following, the robot's progress along the cable); a heave
+    ``compensator`` (``cable.heave_compensation``: active, from the fairlead's heave that
+    ``ship.wave_motion`` gives; passive, from the tension) adds its offset to that length."""
 
-    def __init__(self, winch):
-        self.winch = winch
+    def __init__(self, winch, compensator=None, ship=None):
+        self.winch, self.compensator, self.ship = winch, compensator, ship
 
     def update(self, run, t: float, dt: float) -> None:
         tension = run.ship_end_tension()
         progress = run.named.progress_rate() if self.winch.mode == "follow" else 0.0
         drum = run.bt.drum_element() if self.winch.mode == "free" else None
-        run.bt.set_length(self.winch.advance(dt, t, tension, progress, drum), rate=self.winch.current_rate)
+        length, rate = self.winch.advance(dt, t, tension, progress, drum), self.winch.current_rate
+        c = self.compensator
+        if c is not None:  # (the fairlead's heave at t: where the ship puts it for this step)
+            offset, velocity = self.ship.wave_motion(t)
+            if hasattr(c, "stiffness"):  # (its stroke is 0 at the tension the run starts with)
+                if c.preload_N == 0.0 and c.length == 0.0:
+                    c.preload_N = tension
+                c.update(t, dt, tension, float(offset[2]))
+            else:
+                c.update(t, dt, (float(offset[2]), float(velocity[2])))
+            length, rate = length + c.length, rate + c.rate
+        run.bt.set_length(length, rate=rate)
 
 
 class GaitDrive:

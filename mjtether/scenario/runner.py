@@ -28,6 +28,7 @@ from mjtether.scenario import Scenario, start
 from mjtether.simulation import Simulation
 
 from .controllers import GaitDrive, Manoeuvre, PathDrive, Ship, VehiclePilot, VesselFollow, WinchDrive  # noqa: F401 - Ship: the run's ship kinematics
+from .sea import compensator_from
 from .readouts import RECORD_FIELDS, Readouts, roll_pitch  # noqa: F401 - the record's columns
 from .robot_ends import ROBOT_ENDS, manoeuvre_from  # noqa: F401 - the robot ends; where manoeuvre_from was
 from .scene import (  # noqa: F401 - where they were found before
@@ -149,7 +150,7 @@ class ScenarioRun:
             self.named = Readouts(self)
             self.torso, self.tow_site = self.named.torso, self.named.tow_site
             # the order they act in at each step: the gait or autopilot, then the ship, then the winch
-            winch = WinchDrive(self.winch) if self.tethered else None
+            winch = WinchDrive(self.winch, compensator_from(sc), self.ship) if self.tethered else None
             ship = self.ship if self.ship_pilot is None else self.ship_pilot
             self.controllers = [c for c in (*end.controllers, ship, winch) if c is not None]
             # (alone, or on an empty drum, a vehicle starts as placed: there are no contacts to load)

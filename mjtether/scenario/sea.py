@@ -99,4 +99,17 @@ class HeaveCompensation(Section):
     gain: float = param(1.0, 0.0, 2.0, "", "active: the part of the heave compensated")
     stiffness: float = param(1e5, 1.0, 1e9, "N/m", "passive: the compensator's spring")
     damping: float = param(0.0, 0.0, 1e9, "N s/m", "passive: its damper")
-    stroke: float = param(10.0, 0.01, 100.0, "m", "passive: its full stroke")
+    stroke: float = param(10.0, 0.01, 100.0, "m", "the most line the compensation may pay out (the drum's "
+                          "default max_length grows by it); passive: its full stroke")
+
+
+def compensator_from(sc):
+    """The winch's heave compensator (``cable.heave_compensation``) for the scenario ``sc``, or
+    None: active within the winch's max_rate and max_accel, or passive."""
+    hc = sc.winch.heave_compensation
+    if hc.type == "none":
+        return None
+    from mjtether.cable import heave_compensation as h
+    if hc.type == "active":
+        return h.ActiveHeaveCompensation(hc.lag_s, sc.winch.max_rate, sc.winch.max_accel, hc.gain)
+    return h.PassiveHeaveCompensation(hc.stiffness, hc.damping, stroke_m=hc.stroke)

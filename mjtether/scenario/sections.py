@@ -595,10 +595,12 @@ class Scenario(Section):
 
     def __post_init__(self):
         super().__post_init__()
-        if self.winch.max_length == 0.0:  # resolve the default: the drum holds L (fixed) or 2 L
-            L = self.tether.length
+        if self.winch.max_length == 0.0:  # resolve the default: the drum holds L (fixed) or 2 L, and a
+            L = self.tether.length  # heave compensator's stroke
+            hc = self.winch.heave_compensation
+            extra = 0.0 if hc.type == "none" else hc.stroke
             object.__setattr__(self, "winch", self.winch.replace(
-                max_length=L if self.winch.mode == "fixed" else min(2.0 * L, 1e5)))
+                max_length=(L if self.winch.mode == "fixed" else min(2.0 * L, 1e5)) + extra))
 
     def _check(self):
         w, r, L = self.water, self.robot, self.tether.length
