@@ -3,7 +3,7 @@
 Importing this package registers:
 
 * ``mjtether/TetherWinch-v0`` (``TetherWinchEnv``): command the winch behind a walker that
-  follows a scripted route;
+  follows a scripted route (with ``sea_state``, from a ship in waves, against snap loads);
 * ``mjtether/TetheredWalker-v0`` (``TetheredWalkerEnv``): command the walker's gait and the
   winch to reach a goal on the seabed;
 * ``mjtether/TetheredROV-v0`` (``TetheredROVEnv``): command an ROV's thrusters to hold station
@@ -13,7 +13,8 @@ Importing this package registers:
   lines (``observation_names``).
 
 Hand-written controllers to compare against (``baselines``): ``FollowPayout`` (Khan et al.
-2023, Eq. 30), ``SlantRangePayout``, ``SlackPI`` (tuned; the strongest), ``SteerToGoal`` and
+2023, Eq. 30), ``SlantRangePayout``, ``SlackPI`` (tuned; the strongest), ``HeaveCompensationPayout``
+(an active heave compensator, for ``TetherWinch-v0`` in a sea state), ``SteerToGoal`` and
 ``StationKeepingPID``.
 
 >>> import gymnasium as gym, mjtether.envs  # noqa: F401
@@ -22,14 +23,14 @@ Hand-written controllers to compare against (``baselines``): ``FollowPayout`` (K
 
 from gymnasium.envs.registration import register, registry
 
-from .baselines import FollowPayout, SlackPI, SlantRangePayout, StationKeepingPID, SteerToGoal
+from .baselines import FollowPayout, HeaveCompensationPayout, SlackPI, SlantRangePayout, StationKeepingPID, SteerToGoal
 from .tether_winch import TetherWinchEnv
 from .tethered_rov import TetheredROVEnv
 from .tethered_system import TetheredSystemEnv
 from .tethered_walker import TetheredWalkerEnv
 
 __all__ = ["TetherWinchEnv", "TetheredWalkerEnv", "TetheredROVEnv", "TetheredSystemEnv", "FollowPayout",
-           "SlantRangePayout", "SlackPI", "SteerToGoal", "StationKeepingPID"]
+           "HeaveCompensationPayout", "SlantRangePayout", "SlackPI", "SteerToGoal", "StationKeepingPID"]
 
 for _id, _entry, _steps in (("mjtether/TetherWinch-v0", "mjtether.envs.tether_winch:TetherWinchEnv", 600),
                             ("mjtether/TetheredWalker-v0", "mjtether.envs.tethered_walker:TetheredWalkerEnv", 900),

@@ -119,6 +119,42 @@ class SlackPI:
         return np.array([np.clip(rate / e.max_rate, -1.0, 1.0)], dtype=np.float32)
 
 
+class HeaveCompensationPayout:
+    """``TetherWinch-v0`` with a ``sea_state``: an active heave compensator
+    (``mjtether.cable.heave_compensation.ActiveHeaveCompensation``, within the environment's
+    ``max_rate`` and ``max_accel``) driving the winch from the fairlead's observed heave z and
+    heave velocity v (observations 16 and 17, m and m/s). The drum pays out as the fairlead rises
+    and reels in as it falls, so that the line below it sees less of the ship's motion. The
+    payout rate (m/s) is
+
+        V_po = V_base + V_ahc,
+
+    V_base the rate of ``base`` (another policy of this module, e.g. ``SlackPI()``; None: hold
+    the length) and V_ahc the compensator's rate towards the offset gain (z - z_0) (z_0: the
+    heave at the episode's start, where the line was set up). The rate an action asks for holds
+    over the coming step of ``dt`` s, so the compensator aims at the heave at its end, predicted
+    z + v dt (``lead``; False: at the heave now, a step late). Its state restarts when the
+    environment starts a new episode. ``lag_s`` and ``gain`` as in ``ActiveHeaveCompensation``."""
+
+    def __init__(self, base=None, gain: float = 1.0, lag_s: float = 0.0, lead: bool = True):
+        self.base, self.gain, self.lag_s, self.lead = base, gain, lag_s, lead
+        self._runner = self._ahc = None
+
+    def __call__(self, env) -> np.ndarray:
+        from mjtether.cable.heave_compensation import ActiveHeaveCompensation
+
+        e = env.unwrapped
+        z, v = e.fairlead_heave()
+        t = e.runner.named.time
+        if e.runner is not self._runner:  # a new episode
+            self._runner, self._z0 = e.runner, z
+            self._ahc = ActiveHeaveCompensation(self.lag_s, e.max_rate, e.max_accel, self.gain)
+        ahead = e.dt if self.lead else 0.0
+        rate = self._ahc.update(t + ahead, e.dt, (z - self._z0 + v * ahead, v))
+        base = 0.0 if self.base is None else float(self.base(env)[0]) * e.max_rate
+        return np.array([np.clip((base + rate) / e.max_rate, -1.0, 1.0)], dtype=np.float32)
+
+
 class StationKeepingPID:
     """``TetheredROV-v0``: mjtether's vehicle autopilot (``controllers.VehiclePilot``, with the
     vehicle file's gains: depth and heading PID, roll and pitch PD, a horizontal PD on the

@@ -283,6 +283,11 @@ def _run(args) -> int:
     tensions = (f"final ship-end tension {s['final']['ship_tension_N']:.0f} N, tow tension "
                 f"{s['final']['tow_tension_N']:.0f} N; peak {s['peak']['ship_tension_N']:.0f} N"
                 if info["tethered"] else "no tether")
+    snaps = s.get("snap_loads", {})
+    if snaps.get("count"):
+        worst = snaps["worst"][0]
+        tensions += (f"; {snaps['count']} snap load(s), the worst {worst['peak_tension_N']:.0f} N at t = "
+                     f"{worst['time_s']:.1f} s, {worst['from_ship_m']:.0f} m from the ship (summary.json's snap_loads)")
     print(f"{info['simulated_s']:.0f} s simulated in {info['wall_time_s']:.1f} s "
           f"({info['realtime_factor']:.1f}x real time); {tensions}; results in {out}/")
     return 0

@@ -181,7 +181,8 @@ class Simulation:
 
     def _advance(self, nstep: int) -> None:
         """``nstep`` MuJoCo steps, switching slack tether elements after each and tracking
-        every element's peak push (``BoundTether.take_peak_compression``)."""
+        every element's peak push (``BoundTether.take_peak_compression``) and its snap loads
+        (``BoundTether.snaps``, where started)."""
         self.revision += 1
         if not self.tethers:
             self._t_step = self.data.time + self.model.opt.timestep
@@ -212,16 +213,18 @@ class Simulation:
                 changed = False
                 for t in tethers:  # the last time round, only switch off elements that pushed
                     changed |= t.update_slack(taut=redo < SLACK_REDOS)
-            for t in tethers:  # the pushes of the step as kept (see BoundTether.take_peak_compression)
+            for t in tethers:  # the pushes and snaps of the step as kept (BoundTether.take_peak_compression, .snaps)
                 t.track_peak_compression()
+                if t.readouts.snaps is not None:
+                    t.track_snaps()
 
     def save_state(self):
         """Everything needed to continue exactly from here (MuJoCo's integration state and the
-        payout state of every tether); see ``restore_state``."""
+        payout state and the snap detector of every tether); see ``restore_state``."""
         spec = mujoco.mjtState.mjSTATE_INTEGRATION
         buf = np.empty(mujoco.mj_stateSize(self.model, spec))
         mujoco.mj_getState(self.model, self.data, buf, spec)
-        return buf, {k: t.payout_state() for k, t in self.tethers.items()}
+        return buf, {k: (t.payout_state(), None if t.snaps is None else t.snaps.copy()) for k, t in self.tethers.items()}
 
     def restore_state(self, state) -> None:
         """Return to a ``save_state()``; readouts are valid after ``forward()`` or a step."""
@@ -229,8 +232,10 @@ class Simulation:
         self.revision += 1
         mujoco.mj_setState(self.model, self.data, buf, mujoco.mjtState.mjSTATE_INTEGRATION)
         for k, t in self.tethers.items():
-            t.restore_payout(payout[k])
+            drum, snaps = payout[k]
+            t.restore_payout(drum)
             t.clear_peak_compression()  # (the pushes tracked led elsewhere)
+            t.readouts.snaps = None if snaps is None else snaps.copy()  # (the snaps found up to then)
         w = self.data.warning  # (MuJoCo's warning counts are not part of its state)
         self._bad_acc0 = w[_BADQPOS].number + w[_BADQVEL].number + w[_BADQACC].number
 

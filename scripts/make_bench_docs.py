@@ -63,6 +63,7 @@ RUNS: dict[str, tuple[list[str], str]] = {
     "bench_kernel_choice": (["scripts/bench_kernel_choice.py", "--json"], ""),
     "bench_constructions": (["scripts/bench_constructions.py", "--json"], ""),
     "bench_moordyn": (["scripts/bench_moordyn.py", "--json"], ""),
+    "bench_waves": (["scripts/bench_waves.py", "--json"], ""),
 }
 
 MARKER = re.compile(r"<!--bench:(?P<ref>[^>]*?)-->(?P<text>.*?)<!--/bench-->")

@@ -252,6 +252,10 @@ def _f(x: float) -> str:
     return f"{round(x, 1) + 0.0:.1f}"
 
 
+DRIFT_MARK = "<!-- scripts/hong2020_drift.py: begin -->"
+"""Where ``scripts/hong2020_drift.py``'s section of the page begins (this script keeps it)."""
+
+
 def write_report(path: Path, out: dict, platform=()) -> None:
     """``docs/hong2020_reproduction.md`` from ``table(dynamic=True)``'s and ``platform_case``'s
     results."""
@@ -420,7 +424,9 @@ def write_report(path: Path, out: dict, platform=()) -> None:
     lines.append("")
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = path.with_suffix(".tmp")
-    tmp.write_text("\n".join(lines))
+    old = path.read_text() if path.exists() else ""
+    drift = old.find(DRIFT_MARK)  # (the drift case's section, scripts/hong2020_drift.py's, is kept)
+    tmp.write_text("\n".join(lines) + ("\n" + old[drift:] if drift >= 0 else ""))
     tmp.replace(path)
 
 

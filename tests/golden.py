@@ -140,6 +140,12 @@ and say which here:
   already gave it other bits: rounding (at most 1e-11 of a value) and ``hong2020_platform``'s
   ``cable_wrap`` at 360 deg instead of 0 (a wrap angle on its seam), so the file was rewritten
   there.
+* issue 43: the record gained five columns at its end (``peak_tension``, ``snap_count``,
+  ``wave_elevation``, ``fairlead_z``, ``heave_compensation``) and the snap detector runs at every
+  step; the 37 columns before them, the nodes, tensions and environments of every run unchanged
+  bit for bit (checked against the file before, on the machine that wrote both). The sea-state
+  examples (``walker_sea_state``, ``walker_sea_state_compensated``) added; every other run,
+  and the environments, unchanged bit for bit.
 """
 
 from pathlib import Path

@@ -118,7 +118,7 @@ def _keys_pattern(files):
 def test_both_systems_write_the_same_folder(tmp_path):
     """A scenario's and a network's folders, each written through ``write_folder``: the same
     files, the same npz key pattern (``time_s``, ``lineNAME``, ``lineNAME_nodes``,
-    ``lineNAME_tension``, ``lineNAME_compression``, ``qpos``; the single tether adds its
+    ``lineNAME_tension``, ``lineNAME_compression``, ``lineNAME_peak_tension``, ``qpos``; the single tether adds its
     ``element_length`` and the mocap state), the summary's ``kind`` and the same plot list form;
     the CSV's first column ``time_s``, its last row the run's end (0.33 s to the 9 figures
     written, and the network's 2.5 ms step: 132 steps)."""
@@ -132,7 +132,8 @@ def test_both_systems_write_the_same_folder(tmp_path):
     assert {p.name for p in a.iterdir()} == common | {"track.png"}  # (the ship's and robot's tracks)
     with np.load(a / "lines.npz") as za, np.load(b / "lines.npz") as zb:
         ka, kb = _keys_pattern(za.files), _keys_pattern(zb.files)
-    assert set(kb) == {"time_s", "lineNAME", "lineNAME_nodes", "lineNAME_tension", "lineNAME_compression", "qpos"}
+    assert set(kb) == {"time_s", "lineNAME", "lineNAME_nodes", "lineNAME_tension", "lineNAME_compression",
+                       "lineNAME_peak_tension", "qpos"}
     assert set(ka) - set(kb) == {"lineNAME_element_length", "mocap_pos", "mocap_quat"} and set(kb) <= set(ka)
     for folder, kind in ((a, "scenario"), (b, "network")):
         s = json.loads((folder / "summary.json").read_text())

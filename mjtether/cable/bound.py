@@ -7,7 +7,8 @@
 * ``loads.CableLoads``: the hydrodynamic, bending, point and friction loads, the added mass's
   orientation, and the arrays the native callback reads;
 * ``readouts.TetherReadouts``: tensions, lengths, node positions, end forces, and each
-  element's largest push since it was last taken (``take_peak_compression``).
+  element's largest push since it was last taken (``take_peak_compression``), and the snap
+  loads found at every step (``start_snaps``, ``snaps``).
 
 ``BoundTether`` offers their methods under one name (``bt.set_length``, ``bt.tension``, ...) and
 is the force provider that ``mjtether.physics.dispatch`` calls (``apply``).
@@ -73,6 +74,12 @@ class BoundTether:
         self.element_length, self.slack_count, self.stretched_length = ro.element_length, ro.slack_count, \
             ro.stretched_length
         self.end_force, self.end_tension, self._rows = ro.end_force, ro.end_tension, ro.rows
+        self.start_snaps, self.track_snaps = ro.start_snaps, ro.track_snaps
+
+    @property
+    def snaps(self):
+        """The line's snap-load detector (``snap.SnapDetector``, from ``start_snaps``), or None."""
+        return self.readouts.snaps
 
     # ----------------------------------------------------------------- the payout state
 

@@ -168,3 +168,62 @@ def drum_update(k, n, l0, mu, s, c, ap, i_ref, dof0, tadr, eq0, nten, EA, dt, ze
         lead[j] = B / S
         K[j] = S / ((1.0 - d) * inv)
     eq_data[eq0 + k, 0] = s + lead[k] * payout_rate - tendon_length0[tadr + k]
+
+
+@jit
+def snap_update(t, act, f, first, slack, taut_at, window, slack_now, snapping, t_slack, t_taut, slack_for, peak,
+                t_min, t_max, interval_max, closing, top_min):
+    """``snap.SnapDetector.update`` at time ``t`` (s) from the constraint state (``act`` (n,) the
+    elements' ``eq_active``, ``f`` the active elements' forces in element order, N, tension
+    negative; elements before ``first`` on the drum): the detector's arrays updated in place,
+    ``closing`` set for each snap that ended (its event read from ``t_taut``, ``peak`` and
+    ``slack_for``); ``top_min`` (1,) the least tension of the element at ``first`` (the
+    fairlead's) so far. Returns how many ended, or -(element + 1) for a non-finite force."""
+    n = act.shape[0]
+    closed = 0
+    r = 0
+    for e in range(n):
+        T = 0.0
+        if act[e]:
+            T = -f[r]
+            r += 1
+            if not math.isfinite(T):
+                return -(e + 1)
+            if T < 0.0:
+                T = 0.0
+        if e < first:
+            T = 0.0
+            slack_now[e] = False
+            if snapping[e]:
+                snapping[e] = False
+                closing[e] = True
+                closed += 1
+            if T > t_max[e]:
+                t_max[e] = T
+            continue
+        if T < t_min[e]:
+            t_min[e] = T
+        if e == first and T < top_min[0]:
+            top_min[0] = T
+        if T > t_max[e]:
+            t_max[e] = T
+        if T > interval_max[e]:
+            interval_max[e] = T
+        low = T <= slack[e]
+        if snapping[e]:
+            if T > peak[e]:
+                peak[e] = T
+            if low or t - t_taut[e] >= window:
+                snapping[e] = False
+                closing[e] = True
+                closed += 1
+        if low and not slack_now[e]:
+            t_slack[e] = t
+            slack_now[e] = True
+        if slack_now[e] and T > taut_at[e]:
+            slack_now[e] = False
+            snapping[e] = True
+            t_taut[e] = t
+            slack_for[e] = t - t_slack[e]
+            peak[e] = T
+    return closed

@@ -14,7 +14,8 @@ import mujoco
 import numpy as np
 
 from mjtether.physics import compiled
-from mjtether.physics.hydro import bending_forces, gauss_heights, gauss_points, tether_loads, wave_inertia
+from mjtether.physics.hydro import (GAUSS_POINTS, bending_forces, gauss_heights, gauss_points, tether_loads,
+                                    wave_inertia)
 
 from .layout import CableLayout
 from .seabed import CONTACT_TOLERANCE, STICK_DAMPING, STICK_STIFFNESS
@@ -85,6 +86,20 @@ def orient_added_mass(normal_prm, first: int, x: np.ndarray) -> None:
         prm[ok, 1] = np.cross(t, n1)
 
 
+_GAUSS_S = np.array(GAUSS_POINTS)[:, None]  # (2, 1): an element's Gauss points, as fractions of it
+
+
+def _wave_added_mass(layout: CableLayout) -> tuple[np.ndarray, np.ndarray]:
+    """The added mass's area per metre (m^2) of each element normal to it and along it, as the
+    model carries it (C_a pi d^2 / 4 plus the floats' C_a V per metre; along it the same where
+    the added mass is isotropic, else 0): what the waves' inertia load takes (``hydro.wave_inertia``)."""
+    mk = layout.line
+    d = layout.element(mk.element_diameter)
+    added = layout.element(mk.element_ca_normal) * np.pi * d ** 2 / 4 + layout.element(mk.element_float_added_volume)
+    # (isotropic: the armature on all axes)
+    return added, (added if layout.normal_prm is None else np.zeros_like(added))
+
+
 class CableLoads:
     """The passive loads of a bound tether, given its ``drum`` (payout state) and its seabed
     ``contact`` (``friction.SeabedContact``)."""
@@ -92,6 +107,7 @@ class CableLoads:
     def __init__(self, layout: CableLayout, drum, contact):
         self.layout, self.drum, self.contact = layout, drum, contact
         self.bend = joint_stiffness(layout)  # EI / l of each joint (N m), None without bending
+        self._added = _wave_added_mass(layout)  # (the waves' inertia load's, ``_wave_inertia``)
 
     def buffer(self, data: mujoco.MjData) -> np.ndarray:
         """Hydrodynamic (+ bending, + seabed friction) loads on the deployed nodes (N, shape
@@ -155,9 +171,17 @@ class CableLoads:
         waves = self.layout.water.waves
         if waves is None:
             return None
-        gp = gauss_points(x)
+        if self.layout.fast is None:
+            gp = gauss_points(x)
+            eta, vel, acc = waves.state(gp.reshape(-1, 3), t)
+            return SeaAtLine(eta.reshape(2, -1).mean(axis=0), vel.reshape(gp.shape), acc.reshape(gp.shape))
+        # the compiled kernels' order: element i's two Gauss points at 2i and 2i + 1 (the same
+        # points, the arrays (2, m, 3) views of it)
+        m = len(x) - 1
+        gp = x[:-1, None, :] + _GAUSS_S * (x[1:] - x[:-1])[:, None, :]
         eta, vel, acc = waves.state(gp.reshape(-1, 3), t)
-        return SeaAtLine(eta.reshape(2, -1).mean(axis=0), vel.reshape(gp.shape), acc.reshape(gp.shape))
+        return SeaAtLine(0.5 * (eta[0::2] + eta[1::2]), vel.reshape(m, 2, 3).transpose(1, 0, 2),
+                         acc.reshape(m, 2, 3).transpose(1, 0, 2))
 
     def _wave_inertia(self, x: np.ndarray, sea, f: np.ndarray) -> None:
         """Add the waves' inertia loads (``hydro.wave_inertia``: Froude-Krylov plus the added
@@ -166,12 +190,11 @@ class CableLoads:
             return
         L, k = self.layout, self.drum.first
         mk = L.line
-        d = L.element(mk.element_diameter)[k:]
-        added = L.element(mk.element_ca_normal)[k:] * np.pi * d ** 2 / 4 + L.element(mk.element_float_added_volume)[k:]
-        axial = added if L.normal_prm is None else np.zeros_like(added)  # (isotropic: the armature on all axes)
+        added, axial = (a[k:] for a in self._added)
         zg = np.minimum(gauss_heights(x[:, 2]), 0.0)
-        f += wave_inertia(x, self.drum.deployed_rest, L.element(mk.element_area)[k:], d, sea.surface,
-                          np.asarray(L.water.rho(zg), dtype=float), sea.acceleration, added, axial)
+        f += wave_inertia(x, self.drum.deployed_rest, L.element(mk.element_area)[k:],
+                          L.element(mk.element_diameter)[k:], sea.surface, np.asarray(L.water.rho(zg), dtype=float),
+                          sea.acceleration, added, axial)
 
     def _compiled_hydro(self, x: np.ndarray, v: np.ndarray, sea=None, t: float = 0.0) -> np.ndarray:
         """``hydro`` with the compiled kernels: the same loads, into a
@@ -192,7 +215,10 @@ class CableLoads:
         compiled.tether_loads(x, v, dr.deployed_rest, c["diameter"][k:], c["cd_normal"][k:],
                               c["cd_tangential"][k:], c["area"][k:], c["cd_area_float"][k:], rho, u,
                               L.water.gravity, share, f, c["still"][:m] if sea is None else sea.surface)
-        self._wave_inertia(x, sea, f)
+        if sea is not None:  # (``_wave_inertia``; the density at the Gauss points is the drag's)
+            added, axial = self._added
+            compiled.add_wave_inertia(x, dr.deployed_rest, c["area"][k:], c["diameter"][k:], sea.surface, rho,
+                                      sea.acceleration.transpose(1, 0, 2).reshape(2 * m, 3), added[k:], axial[k:], f)
         if c["bend"] is not None:
             compiled.add_bending_forces(x, c["bend"][k:], f)
         if mk.has_point_loads:

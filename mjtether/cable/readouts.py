@@ -30,6 +30,8 @@ class TetherReadouts:
         self.layout, self.drum, self.switch = layout, drum, switch
         self.row_cache: dict[int, slice] = {}
         self.peak = np.zeros(layout.n)  # N: each element's largest push since take_peak_compression
+        self.snaps = None
+        """The line's snap-load detector (``snap.SnapDetector``, ``start_snaps``), or None."""
 
     def nodes(self, data: mujoco.MjData) -> np.ndarray:
         """Deployed node positions (m, world frame), shape (N+1, 3), the first at the ship."""
@@ -111,6 +113,36 @@ class TetherReadouts:
         out = self.peak.copy()
         self.peak[:] = 0.0
         return out
+
+    def start_snaps(self, data: mujoco.MjData | None = None, **kwargs):
+        """Start finding this line's snap loads (``snap.SnapDetector``) from the state now, the
+        static one: each element's slack threshold ``snap.slack_threshold`` of its tension now
+        (unless ``slack_threshold_N`` is given; ``kwargs`` go to the detector). ``Simulation``
+        then gives it every step it takes (``track_snaps``). Returns the detector."""
+        from .snap import SnapDetector, slack_threshold
+        data = self.layout.data if data is None else data
+        static = self.element_tension(data)
+        if "slack_threshold_N" not in kwargs:
+            kwargs["slack_threshold_N"] = slack_threshold(static)
+        self.snaps = SnapDetector(self.layout.n, **kwargs)
+        self.snaps.static_tension_N = static  # (what DNV's slack check weighs the least tension against)
+        self.snaps.first_at_start = self.drum.first
+        return self.snaps
+
+    def track_snaps(self, data: mujoco.MjData | None = None) -> None:
+        """Give the snap detector the element tensions of the step just taken (as kept, after any
+        redo); ``Simulation`` calls it after every step where ``start_snaps`` was called. A step
+        whose time is not later than the last one's is left out: MuJoCo reset the state after an
+        instability (its time too), and ``Simulation.check`` reports the divergence."""
+        L = self.layout
+        data = L.data if data is None else data
+        if not data.time > self.snaps.time:
+            return
+        rows = self.switch.element_rows(data)
+        if rows.stop > data.nefc:
+            raise RuntimeError("tether tension is available after mj_forward/mj_step")
+        self.snaps.update_from_constraints(data.time, self.switch.efc_active(data)[L.eqs], data.efc_force[rows],
+                                           self.drum.first)
 
     def clear_peak_compression(self) -> None:
         """Forget the pushes tracked so far (``take_peak_compression`` then starts from now)."""

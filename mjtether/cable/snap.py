@@ -42,11 +42,16 @@ Units SI.
 
 from __future__ import annotations
 
+import copy
 import math
 
 import numpy as np
 
 from mjtether import _checks
+
+from mjtether.physics.compiled import backend
+
+from . import kernels
 
 SLACK_FRACTION = 0.01
 """The default slack threshold as a part of each element's static tension."""
@@ -83,7 +88,8 @@ class SnapDetector:
     the slack threshold; at least the slack threshold); ``window_s``: how long after
     re-tautening the peak is sought (s)."""
 
-    def __init__(self, n_elements: int, slack_threshold_N, taut_threshold_N=None, window_s: float = WINDOW_S):
+    def __init__(self, n_elements: int, slack_threshold_N, taut_threshold_N=None, window_s: float = WINDOW_S,
+                 compiled: bool = True):
         n = self.n_elements = _checks.positive_int("n_elements", n_elements)
         self.slack_threshold_N = self._per_element("slack_threshold_N", slack_threshold_N)
         if np.any(self.slack_threshold_N <= 0):
@@ -103,8 +109,16 @@ class SnapDetector:
         self._peak = np.zeros(n)  # N, each open snap's peak so far
         self.min_tension_N = np.full(n, math.inf)  # N, each element's least tension so far
         self.max_tension_N = np.zeros(n)  # N, its largest
+        self.interval_max_N = np.zeros(n)  # N, its largest since take_interval_max
+        self._top_min = np.full(1, math.inf)  # N, the least tension of the element at ``first`` (see top_min_N)
+        self.static_tension_N = None
+        """Each element's static tension (N), where the detector's owner gave it (``snap_report``'s
+        DNV check weighs the least tension against it)."""
+        self._closing = np.zeros(n, dtype=bool)  # (the compiled twin's: snaps that ended at its update)
         self._closed = []
         self._t = -math.inf
+        self.compiled = compiled and backend() == "numba"
+        """Whether ``update_from_constraints`` runs the compiled twin (``kernels.snap_update``)."""
 
     def _per_element(self, name: str, value) -> np.ndarray:
         v = np.asarray(value, dtype=float)
@@ -115,9 +129,10 @@ class SnapDetector:
                              f"(one per element), got shape {v.shape}")
         return v
 
-    def update(self, t: float, tension_N) -> None:
+    def update(self, t: float, tension_N, first: int = 0) -> None:
         """Take the element tensions ``tension_N`` (N, >= 0, one per element) at time ``t`` (s,
-        later than the last call's)."""
+        later than the last call's). Elements before ``first`` are on the drum (not deployed):
+        none of them is slack, an open snap there ends, and their tensions are not kept."""
         T = np.asarray(tension_N, dtype=float)
         if T.shape != (self.n_elements,):
             raise ValueError(f"tension_N must hold {self.n_elements} element tensions (N), got shape {T.shape}")
@@ -127,14 +142,22 @@ class SnapDetector:
         if not (lo >= 0.0 and math.isfinite(T.max())):  # (NaN fails both)
             raise ValueError(f"tension_N must be finite and >= 0 N, got minimum {lo!r} at element {int(np.argmin(T))}")
         self._t = t = float(t)
-        np.minimum(self.min_tension_N, T, out=self.min_tension_N)
+        k = _checks.positive_int("first", first, minimum=0)
+        deployed = slice(k, None)
+        np.minimum(self.min_tension_N[deployed], T[deployed], out=self.min_tension_N[deployed])
+        if k < self.n_elements:
+            self._top_min[0] = min(self._top_min[0], T[k])
         np.maximum(self.max_tension_N, T, out=self.max_tension_N)
+        np.maximum(self.interval_max_N, T, out=self.interval_max_N)
         low = T <= self.slack_threshold_N
+        low[:k] = False
         if self._snapping.any():
             np.maximum(self._peak, T, out=self._peak, where=self._snapping)
             done = self._snapping & (low | (t - self._t_taut >= self.window_s))
+            done[:k] = self._snapping[:k]
             if done.any():
                 self._close(np.flatnonzero(done))
+        self.slack_now[:k] = False
         went_slack = low & ~self.slack_now
         self._t_slack[went_slack] = t
         self.slack_now |= went_slack
@@ -145,6 +168,53 @@ class SnapDetector:
             self._t_taut[taut] = t
             self._slack_for[taut] = t - self._t_slack[taut]
             self._peak[taut] = T[taut]
+
+    def update_from_constraints(self, t: float, active, force, first: int) -> None:
+        """``update`` from the tether's constraint state as ``readouts.TetherReadouts`` reads it:
+        ``active`` (n,) each element's equality on, ``force`` the active elements' constraint
+        forces in element order (N, tension negative), ``first`` the first deployed element; by
+        the compiled twin (``kernels.snap_update``) where there is one, else by ``update``."""
+        if not self.compiled:
+            T = np.zeros(self.n_elements)
+            T[np.flatnonzero(active)] = np.maximum(-np.asarray(force), 0.0)
+            T[:first] = 0.0
+            self.update(t, T, first)
+            return
+        if not (t > self._t and math.isfinite(t)):
+            raise ValueError(f"snap detector time must be finite and later than {self._t} s, got {t!r}")
+        self._t = t = float(t)
+        closed = kernels.snap_update(t, active, force, first, self.slack_threshold_N, self.taut_threshold_N,
+                                     self.window_s, self.slack_now, self._snapping, self._t_slack, self._t_taut,
+                                     self._slack_for, self._peak, self.min_tension_N, self.max_tension_N,
+                                     self.interval_max_N, self._closing, self._top_min)
+        if closed < 0:
+            raise ValueError(f"tension_N must be finite and >= 0 N, got a non-finite force at element {-closed - 1}")
+        if closed:
+            idx = np.flatnonzero(self._closing)
+            self._closed.extend(_event(self._t_taut[i], i, self._peak[i], self._slack_for[i]) for i in idx)
+            self._closing[idx] = False
+
+    @property
+    def top_min_N(self) -> float:
+        """The least tension (N) of the first deployed element (the one at the fairlead, whichever
+        it was at each update) so far; inf before the first update."""
+        return float(self._top_min[0])
+
+    @property
+    def time(self) -> float:
+        """The time (s) of the last update (-inf before the first)."""
+        return self._t
+
+    def copy(self) -> "SnapDetector":
+        """An independent copy: its state, its events so far (``Simulation.save_state`` keeps one,
+        so that a restored simulation goes on from the snaps it had found)."""
+        return copy.deepcopy(self)
+
+    def take_interval_max(self) -> np.ndarray:
+        """Each element's largest tension (N) over every update since the last call; resets it."""
+        out = self.interval_max_N.copy()
+        self.interval_max_N[:] = 0.0
+        return out
 
     def _close(self, idx: np.ndarray) -> None:
         """End the open snaps of elements ``idx`` (a loop over events, not elements)."""
@@ -213,3 +283,39 @@ def dnv_slack_check(min_tension_N: float, static_submerged_weight_N: float) -> d
                f"({limit:.6g} N of {w:.6g} N)")
     return {"min_tension_N": t_min, "static_submerged_weight_N": w, "limit_N": limit, "ratio": t_min / w,
             "slack": bool(slack), "verdict": verdict, "criterion": DNV_REFERENCE}
+
+
+def snap_report(bt) -> dict:
+    """A line's snap loads for ``summary.json``, from its bound tether ``bt``
+    (``BoundTether``, whose ``snaps`` detector ran): ``snap_summary`` of every slack-to-taut
+    event of the run, each element numbered as ``lines.npz`` numbers them (from end A, the
+    anchor or robot; the bound tether numbers them from its drum's core, at end B) with
+    ``from_ship_m`` (the unstretched arc length from end B, the fairlead, to its middle at the end
+    of the run); the thresholds used; the elements slack at the end (``slack_at_end``); and
+    DNV-RP-H103's slack criterion at end B (``dnv_slack``, ``dnv_slack_check``): the least
+    tension of the element at the fairlead over every time step (``SnapDetector.top_min_N``;
+    whichever element was there, on a line paying out) against 10 % of the static tension the
+    top carried at the start (the submerged weight it holds up), or why it was not evaluated."""
+    det = bt.snaps
+    n, rest, top = bt.n, np.asarray(bt.rest_lengths, dtype=float), bt.first  # (top: end B's element)
+    from_ship = np.cumsum(rest) - rest / 2 - rest[:top].sum()
+
+    def named(e: int) -> int:  # the drum's numbering to lines.npz's, from end A
+        return n - 1 - int(e)
+    events = [{**e, "element": named(e["element"]), "from_ship_m": float(from_ship[e["element"]])}
+              for e in det.events]
+    out = snap_summary(events)
+    for g in out["elements"]:
+        g["from_ship_m"] = float(from_ship[named(g["element"])])
+    out["thresholds"] = {"slack_fraction_of_static": SLACK_FRACTION, "slack_floor_N": SLACK_FLOOR_N,
+                         "taut_factor": TAUT_FACTOR, "window_s": det.window_s}
+    out["slack_at_end"] = sorted(named(e) for e in np.flatnonzero(det.slack_now))
+    first = getattr(det, "first_at_start", top)  # (the fairlead's element when the static state was taken)
+    static = float(det.static_tension_N[first]) if det.static_tension_N is not None else 0.0
+    if static > 0.0:
+        out["dnv_slack"] = dnv_slack_check(det.top_min_N, static)
+    else:
+        out["dnv_slack"] = {"verdict": "not evaluated: the top carried no static tension (nothing deployed, or "
+                            "slack at the start)", "criterion": DNV_REFERENCE}
+    out["dnv_slack"]["element"] = named(top)
+    return out

@@ -10,8 +10,9 @@ for every system):
   ``lineNAME`` (its deployed nodes at the end of the run, m), ``lineNAME_nodes`` (n, e+1, 3; m),
   ``lineNAME_tension`` (n, e; N, >= 0: each element's pull, 0 when slack),
   ``lineNAME_compression`` (n, e; N, >= 0: the largest push of each element's constraint since the
-  previous sample, which a cable cannot make and the tension leaves out) and, for a single
-  tether, ``lineNAME_element_length`` (n, e; m, stretched). A line on a winch keeps its full
+  previous sample, which a cable cannot make and the tension leaves out), ``lineNAME_peak_tension``
+  (n, e; N: the largest tension of each element since the previous sample, over every time
+  step) and, for a single tether, ``lineNAME_element_length`` (n, e; m, stretched). A line on a winch keeps its full
   capacity: cable still on the drum is at end B, with element length and tension 0, so element j
   is the same piece of cable all run;
 * ``qpos`` (n, nq) and, where the model has mocap bodies (a ship, a held robot),
@@ -47,7 +48,8 @@ def tether_arrays(time: np.ndarray, history: dict, tethered: bool = True) -> dic
         on = np.flatnonzero(length > 0.0)
         last = int(on[-1]) + 1 if on.size else 0  # (the deployed nodes: those of the elements with a length)
         out.update(line_arrays(TETHER, nodes[-1, :last + 1], {
-            "nodes": nodes, **{key: history[key][:, ::-1] for key in ("tension", "compression", "element_length")}}))
+            "nodes": nodes, **{key: history[key][:, ::-1] for key in ("tension", "compression", "element_length",
+                                                                        "peak_tension") if key in history}}))
     for key in STATE:
         if key in history:
             out[key] = history[key]
@@ -63,7 +65,7 @@ def read_tether(folder) -> dict:
     if (d / FILE).is_file():
         with np.load(d / FILE) as z:
             out = {"time": z["time_s"]}
-            for key in ("nodes", "tension", "element_length", "compression"):
+            for key in ("nodes", "tension", "element_length", "compression", "peak_tension"):
                 name = f"line{TETHER}_{key}"
                 if name in z.files:
                     out[key] = z[name][:, ::-1]

@@ -37,7 +37,9 @@ and starts from its steady state), FricDamp (mjtether's friction sticks exactly)
 options and the OUTPUTS section. Refused, naming the feature and the file's line: rods on
 bodies, a line with bending stiffness on a rod's end (MoorDyn clamps it), line failure, SYROPE
 line types, viscoelastic ('|') or nonlinear (a curve file) EA, BA in N s, VIV (Cl != 0), waves
-(WaveKin), MoorDyn's dynamic current files (Currents 2, 4, 5), static friction other than
+other than frequency components (``WaveKin`` 2 and 7, from ``wave_frequencies.txt`` beside the
+file: ``moordyn_waves``; a file with them is a network, ``water.wave_components``), MoorDyn's
+dynamic current files (Currents 2, 4, 5), static friction other than
 kinetic (StatDynFricScale), OpenFAST MoorDyn-F's external loads and line controls (EXTERNAL
 LOADS, CONTROL: MoorDyn-C 2.7 skips them) and, as MoorDyn-C refuses them, points, lines, rods
 or bodies numbered out of turn. OUTPUTS that name a line, point, rod or body the file does not
@@ -58,6 +60,7 @@ import warnings
 from dataclasses import dataclass
 from pathlib import Path
 
+from mjtether.io import moordyn_waves
 from mjtether.io.moordyn_beside import CURRENT_FILE  # noqa: F401 - re-exported: where a current profile goes
 from mjtether.io.moordyn_beside import number as _number
 from mjtether.io.moordyn_beside import read_current_profile as _current_profile
@@ -196,12 +199,13 @@ class Parsed:
     notes: list
     current: tuple = ((), (), ())  # depths (m, below the surface), speeds (m/s), headings (deg)
     seafloor: str = ""  # a 3-D seafloor file (its absolute path), or "" for a level seabed
+    waves: tuple = ()  # (amplitude m, omega rad/s, heading deg, phase deg) per component (moordyn_waves)
 
 
 def parse(text: str, name: str = "<moordyn>") -> Parsed:
     """Read a MoorDyn v2 file as MoorDyn-C 2.7 reads it; ScenarioError naming the file's line for
-    what mjtether cannot represent (rods, VIV, viscoelastic or nonlinear line types, waves,
-    dynamic currents, line failure) or what is not a valid entry."""
+    what mjtether cannot represent (rods, VIV, viscoelastic or nonlinear line types, waves other
+    than frequency components, dynamic currents, line failure) or what is not a valid entry."""
     from mjtether.network import Body, Line, LineType, Point
     sec = _sections(name, text)
     for key, what in _REFUSED_SECTIONS.items():
@@ -240,9 +244,12 @@ def parse(text: str, name: str = "<moordyn>") -> Parsed:
         no, val = options[key]
         return _number(name, no, val, f"option {key}")
 
-    if "wavekin" in options and opt("wavekin", 0) != 0:
-        raise ScenarioError(f"{name}: line {options['wavekin'][0]}: WaveKin = {options['wavekin'][1]}: waves are not "
-                            "supported by mjtether")
+    waves, wave_kin = (), opt("wavekin", 0)
+    if wave_kin in moordyn_waves.WAVE_KINDS:
+        waves, wave_notes = moordyn_waves.read_components(name, options["wavekin"][0], int(wave_kin))
+        notes.extend(wave_notes)
+    elif wave_kin != 0:
+        moordyn_waves.refuse(name, *options["wavekin"])
     current = ((), (), ())
     mode = opt("currents", 0)
     if mode in (1, 3):  # a steady profile, on a grid or at the nodes: both the same steady current here
@@ -389,7 +396,7 @@ def parse(text: str, name: str = "<moordyn>") -> Parsed:
     for no, why in unknown_objects(sec.get("OUTPUTS", (0, []))[1], counts):
         warnings.warn(f"{name}: line {no}: {why}", MoorDynWarning, stacklevel=3)
     return Parsed(name, types, points, bodies, lines, rows, depth, rho, g, opt("kbot", 3.0e6), opt("cbot", 3.0e5),
-                  opt("frictioncoefficient", 0.0), opt("tmaxic", 120.0), notes, current, seafloor)
+                  opt("frictioncoefficient", 0.0), opt("tmaxic", 120.0), notes, current, seafloor, waves)
 
 
 def _held_kind(word: str, rod: bool = False) -> str | None:
@@ -498,7 +505,7 @@ def read(path=None, *, text: str | None = None, name: str | None = None, overrid
         from mjtether.scenario.loading import _read
         text = _read(name, path)
     p = parse(text, name)
-    found = None if p.bodies else _chain(p)
+    found = None if p.bodies or p.waves else _chain(p)  # (waves from a file's components: a network's)
     if found is None or _not_one_tether(name, p, found[0]):  # (a network holds each line as it is)
         return _network(p, overrides)
     tree = _tree(p)
@@ -519,10 +526,11 @@ def to_dict(text: str, name: str = "<moordyn>") -> dict:
 
 def _tree(p: Parsed) -> dict:
     name = p.name
-    found = None if p.bodies else _chain(p)
+    found = None if p.bodies or p.waves else _chain(p)
     if found is None:
         raise ScenarioError(f"{name}: line {p.rows['line' + p.lines[0].name]}: not one chain of lines from a "
-                            "coupled fairlead to a fixed anchor: a network (mjtether.network), not a scenario")
+                            "coupled fairlead to a fixed anchor" + (" without waves" if p.waves else "")
+                            + ": a network (mjtether.network), not a scenario")
     chain, top, bottom = found
     sc: dict = {
         "simulation": {"duration": DEFAULT_DURATION},
@@ -621,7 +629,7 @@ def _network(p: Parsed, overrides=()):
         net = Network(p.name, p.line_types, p.points, tuple(p.lines), bodies=p.bodies, depth=p.depth, rho=p.rho,
                       gravity=p.gravity, seabed_stiffness=p.kbot, seabed_damping=p.cbot, seabed_friction=p.friction,
                       current_depths=p.current[0], current_speeds=p.current[1], current_headings_deg=p.current[2],
-                      bathymetry=p.seafloor,
+                      bathymetry=p.seafloor, wave_components=p.waves,
                       duration=DEFAULT_DURATION, settle=min(p.tmax_ic, MAX_SETTLE),
                       start="as_written" if p.tmax_ic <= 0 else "steady", notes=tuple(p.notes))
         return with_overrides(net, overrides)

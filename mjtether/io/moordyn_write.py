@@ -34,6 +34,8 @@ def write(sc: Scenario) -> str:
         refuse("ship.mode", "a moving ship (MoorDyn's coupled points move with the coupled program)")
     if sc.winch.mode != "fixed":
         refuse("winch.mode", repr(sc.winch.mode))
+    if not sc.waves.flat:
+        refuse("waves.type", f"{sc.waves.type!r} (MoorDyn reads waves from side files, WaveKin 2 or 7; not written)")
     if t.is_makeup:
         return _write_makeup(sc, refuse)
     mass = t.mass_per_length if t.mass_per_length > 0 else t.density * math.pi * t.diameter ** 2 / 4
@@ -96,6 +98,8 @@ def write_network(net) -> str:
         _refuse("vehicles", f"vehicles flown by an autopilot ({', '.join(net.vehicles)})")
     if net.walkers:
         _refuse("walkers", f"seabed walkers ({', '.join(net.walkers)}: a MoorDyn file has no walker)")
+    if net.wave_field() is not None:
+        _refuse("waves", "waves (MoorDyn reads them from side files, WaveKin 2 or 7; not written)")
     paying = [ln.name for ln in net.lines if ln.payout_speed > 0]
     if paying:
         _refuse("lines", f"lines paying out from a winch ({', '.join(paying)}: MoorDyn's coupled program does that)")

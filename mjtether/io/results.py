@@ -22,8 +22,11 @@ Files (all SI units; ``docs/scenarios.md`` lists the CSV columns):
   ``mocap_quat`` (n, nmocap, 4), which ``mjtether render DIR`` sets again to replay the run
   (``mjtether.io.replay``; a run without a tether saves these only);
 * ``summary.json``: the scenario as read (defaults filled in), final and peak tensions, wall time,
-  real-time factor, how the run was started, and (where drawn) ``plots``, the plots' file names;
-* ``tension.png`` (tensions at the ship end and the tow point, deployed length), ``profile.png``
+  real-time factor, how the run was started, the snap loads (``snap_loads``: every slack-to-taut
+  event, the worst ten, and DNV-RP-H103's slack criterion; ``scenario.recording.snap_report``)
+  and (where drawn) ``plots``, the plots' file names;
+* ``tension.png`` (tensions at the ship end and the tow point, the snap loads, deployed length,
+  and in a sea state the wave elevation, the fairlead's heave and the compensator's), ``profile.png``
   (side view x-z of tether snapshots with the water surface, the seabed as defined, sloped or not,
   the ship and the robot; top view x-y with their tracks), ``track.png`` (plan view of the ship's
   and the robot's tracks); see ``tension_figure``, ``profile_figure``, ``track_figure``;
@@ -108,6 +111,10 @@ def summary(sc, rows: np.ndarray, info: dict, scenario_path) -> dict:
             tg[label + "_time_s"] = float(t[k])
         tg["events"] = info.get("tangle_events", [])
         out["tangle"] = tg
+        if "snap_loads" in info:  # (from the run's info to the top: the sea state's first question)
+            out["snap_loads"] = out["run"].pop("snap_loads")
+            out["lines"][lines_npz.TETHER]["snap_count"] = out["snap_loads"]["count"]
+            out["peak"]["element_tension_N"] = float(rows[:, col["peak_tension"]].max())
     return out
 
 
@@ -125,7 +132,8 @@ def write(out, sc: dict, rows: np.ndarray, history: dict, info: dict, scenario_p
     with Staging(target, overwrite=overwrite) as stage:
         return write_folder(stage, column_names(tethered, vehicle), rows[:, written(tethered, vehicle)], arrays,
                             summary(sc, rows, info, scenario_path),
-                            plots=(lambda folder: _plots(folder, rows, history["nodes"], sc, tethered)) if plots
+                            plots=(lambda folder: _plots(folder, rows, history["nodes"], sc, tethered,
+                                                         info.get("snap_loads", {}).get("worst"))) if plots
                             else None, extra_files=extra_files)
 
 
@@ -191,21 +199,42 @@ def _tracks(ax, cols: dict) -> None:
             gid="robot_start")
 
 
-def tension_figure(rows: np.ndarray):
-    """Tension (N) at the ship end (fairlead) and at the robot's tow point, and the unstretched
-    deployed length (m), against simulated time (s). ``rows``: ``runner.run``'s records."""
+def tension_figure(rows: np.ndarray, snaps: list | None = None):
+    """Tension (N) at the ship end (fairlead) and at the robot's tow point, the largest of any
+    element between samples and the snap loads (``snaps``: ``summary.json``'s
+    ``snap_loads["worst"]`` events, their peaks marked), and the unstretched deployed length
+    (m), against simulated time (s); in a sea state (the fairlead moving, or waves) a third
+    panel: the wave elevation at the ship, the fairlead's heave, the heave compensator's payout
+    and the residual heave the line sees (m). ``rows``: ``runner.run``'s records."""
     plt = _pyplot()
     c = _columns(rows)
-    fig, ax = plt.subplots(2, 1, figsize=(8, 6.5), sharex=True)
+    heave = c["fairlead_z"] - c["fairlead_z"][0]
+    sea = bool(np.any(c["wave_elevation"] != 0.0) or np.ptp(heave) > 1e-9 or np.any(c["heave_compensation"] != 0))
+    fig, ax = plt.subplots(3 if sea else 2, 1, figsize=(8, 9 if sea else 6.5), sharex=True)
     fig.suptitle("Tether tension and deployed length")
     ax[0].plot(c["time"], c["ship_tension"], label="ship end")
     ax[0].plot(c["time"], c["tow_tension"], label="tow point")
+    if np.any(c["peak_tension"] > np.maximum(c["ship_tension"], c["tow_tension"]) * (1 + 1e-9)):
+        ax[0].plot(c["time"], c["peak_tension"], lw=0.8, color="0.5", label="largest of any element since the last "
+                   "sample")
+    if snaps:
+        ax[0].plot([e["time_s"] for e in snaps], [e["peak_tension_N"] for e in snaps], "v", color="crimson",
+                   ms=6, ls="none", gid="snaps", label=f"snap loads (peaks; {len(snaps)} worst)")
     ax[0].set_title("Tension at the ship end and at the robot's tow point")
     ax[0].set_ylabel("tension (N)")
-    ax[0].legend()
+    ax[0].legend(fontsize=8)
     ax[1].plot(c["time"], c["deployed_length"], color="k")
     ax[1].set_title("Deployed (unstretched) cable length")
     ax[1].set_ylabel("deployed length (m)")
+    if sea:
+        ax[2].plot(c["time"], c["wave_elevation"], color="steelblue", label="wave elevation at the ship")
+        ax[2].plot(c["time"], heave, color="0.3", label="fairlead heave")
+        if np.any(c["heave_compensation"] != 0):
+            ax[2].plot(c["time"], c["heave_compensation"], "--", color="seagreen", label="heave compensator's payout")
+            ax[2].plot(c["time"], heave - c["heave_compensation"], color="darkorange", label="residual heave")
+        ax[2].set_title("The sea and the fairlead")
+        ax[2].set_ylabel("height (m)")
+        ax[2].legend(fontsize=8)
     for a in ax:
         a.set_xlabel("time (s)")
         a.grid(alpha=0.3)
@@ -300,11 +329,13 @@ def track_figure(rows: np.ndarray, sc):
     return fig
 
 
-def _plots(folder: Path, rows: np.ndarray, nodes: np.ndarray, sc, tethered: bool = True) -> list[str]:
-    """Write tension.png, profile.png and track.png into ``folder`` (track.png only for a run
-    without a tether); returns the names of the files written."""
+def _plots(folder: Path, rows: np.ndarray, nodes: np.ndarray, sc, tethered: bool = True,
+           snaps: list | None = None) -> list[str]:
+    """Write tension.png (``snaps``: the snap loads it marks), profile.png and track.png into
+    ``folder`` (track.png only for a run without a tether); returns the names of the files
+    written."""
     plt = _pyplot()
-    figures = (("tension.png", lambda: tension_figure(rows)),
+    figures = (("tension.png", lambda: tension_figure(rows, snaps)),
                ("profile.png", lambda: profile_figure(rows, nodes, sc)),
                ("track.png", lambda: track_figure(rows, sc)))
     names = []

@@ -299,7 +299,11 @@ class Network:
     steady state between its ends, no settling: a pendulum released from its given angle).
     ``current``: the current as a scenario writes it instead (``[water.current]``: a
     ``scenario.Current``, any of its types, checked as a scenario checks it), not with the
-    ``current_depths`` table; ``walkers``: {name: ``Walker``}."""
+    ``current_depths`` table; ``walkers``: {name: ``Walker``}. The sea: ``waves`` (``[waves]``, a
+    ``scenario.sea.Waves``: the scenario's keys and checks) or ``wave_components``, rows of
+    (amplitude m, omega rad/s, heading deg, phase deg), eta = sum a cos(k (x cos b + y sin b) -
+    omega t + phase) with k from the network's depth and gravity, Wheeler-stretched (a MoorDyn
+    file's ``wave_frequencies.txt``, ``io.moordyn_waves``); not both (``wave_field``)."""
 
     name: str
     line_types: dict
@@ -327,6 +331,8 @@ class Network:
     notes: tuple = ()
     walkers: dict = field(default_factory=dict)
     current: object = None
+    waves: object = None
+    wave_components: tuple = ()
     max_wall_hours: float = 6.0
     max_output_gb: float = 4.0
 
@@ -360,6 +366,11 @@ class Network:
             if self.current_depths:
                 raise NetworkError("water: give the current as [water.current] or as current_depths, current_speeds "
                                    "and current_headings_deg, not both")
+        if self.waves is not None:
+            object.__setattr__(self, "waves", _scenario_waves(self.waves))
+        object.__setattr__(self, "wave_components", _wave_rows(self.wave_components))
+        if self.wave_components and self.waves is not None and not self.waves.flat:
+            raise NetworkError("waves: give the sea as [waves] or as water.wave_components, not both")
         object.__setattr__(self, "bathymetry_origin_m", tuple(self.bathymetry_origin_m))
         if self.bathymetry:
             try:
@@ -443,6 +454,21 @@ class Network:
         grid = self.grid
         return -self.depth if grid is None else float(grid.height(x, y))
 
+    def wave_field(self):
+        """The sea (``physics.waves.WaveField``: ``[waves]`` by the scenario's ``sea.wave_field``,
+        or ``wave_components``) in the network's depth and gravity, or None for a flat sea."""
+        if self.wave_components:
+            import numpy as np
+
+            from mjtether.physics import waves as wv
+            a, w, b, p = np.array(self.wave_components).T
+            comps = wv.WaveComponents(a, w, wv.wavenumber(w, self.depth, self.gravity), np.radians(b), np.radians(p))
+            return wv.WaveField(comps, self.depth, self.gravity, stretching="wheeler")
+        if self.waves is None:
+            return None
+        from mjtether.scenario.sea import wave_field
+        return wave_field(self.waves, self.depth, self.gravity)
+
     def attached(self, point: str) -> list[tuple[Line, str]]:
         """The lines at ``point``, each with the end (``"a"`` or ``"b"``) that is there."""
         return [(ln, end) for ln in self.lines for end in ("a", "b") if getattr(ln, end) == point]
@@ -452,10 +478,11 @@ class Network:
 
 _SECTIONS = {"water": {"depth", "rho", "gravity", "seabed_stiffness", "seabed_damping", "seabed_friction",
                        "current_depths", "current_speeds", "current_headings_deg", "bathymetry",
-                       "bathymetry_spacing_m", "bathymetry_origin_m"},
+                       "bathymetry_spacing_m", "bathymetry_origin_m", "wave_components"},
              "simulation": {"duration", "timestep", "output_interval", "settle", "start", "max_wall_hours",
                             "max_output_gb"},
-             "line_types": None, "points": None, "bodies": None, "vehicles": None, "walkers": None, "lines": None}
+             "line_types": None, "points": None, "bodies": None, "vehicles": None, "walkers": None, "lines": None,
+             "waves": None}
 WATER_TABLES = ("current", "density")
 """``[water.current]`` and ``[water.density]``: the water written as a scenario writes it
 (``scenario.Current``, ``scenario.Density``: the same keys, meanings and checks). The current
@@ -472,6 +499,39 @@ def _scenario_current(value):
     if not isinstance(value, Current):
         raise NetworkError(f"water.current must be a [water.current] table (a scenario.Current), got {value!r}")
     return value
+
+
+def _scenario_waves(value):
+    """A ``scenario.sea.Waves`` from one, or from its table (a dict, as TOML gives it: ``[waves]``)."""
+    from mjtether.scenario import config as scenario_config
+    from mjtether.scenario.sea import Waves
+    if isinstance(value, dict):
+        return scenario_config.build(Waves, value)
+    if not isinstance(value, Waves):
+        raise NetworkError(f"waves must be a [waves] table (a scenario.sea.Waves), got {value!r}")
+    return value
+
+
+MAX_WAVE_OMEGA = 100.0
+"""The highest frequency a row of ``water.wave_components`` may have (rad/s: a 0.06 s wave)."""
+
+
+def _wave_rows(rows) -> tuple:
+    """``water.wave_components`` as a tuple of (amplitude m, omega rad/s, heading deg, phase deg) rows."""
+    if isinstance(rows, (str, dict)) or not hasattr(rows, "__iter__"):
+        raise NetworkError(f"water.wave_components must be a list of [amplitude m, omega rad/s, heading deg, "
+                           f"phase deg] rows, got {rows!r}")
+    out = []
+    for i, row in enumerate(rows):
+        key = f"water.wave_components[{i}]"
+        if isinstance(row, (str, dict)) or not hasattr(row, "__len__") or len(row) != 4:
+            raise NetworkError(f"{key} must be [amplitude m, omega rad/s, heading deg, phase deg], got {row!r}")
+        a = _checks.number(f"{key} amplitude", row[0], 0.0, 100.0, "m")
+        w = _checks.number(f"{key} omega", row[1], 0.0, MAX_WAVE_OMEGA, "rad/s", above=True)
+        b = _checks.number(f"{key} heading", row[2], -360.0, 360.0, "deg")
+        p = _checks.number(f"{key} phase", row[3], -360.0, 360.0, "deg")
+        out.append((a, w, b, p))
+    return tuple(out)
 
 
 def _water_tables(table: dict) -> dict:
@@ -543,6 +603,11 @@ def from_dict(data: dict, name: str = "<network>", overrides=()) -> Network:
                 flat.update({(sec, k): v for k, v in _water_tables(table).items()})
             except ValueError as exc:
                 raise NetworkError(f"{name}: {exc}") from None
+    if "waves" in data:
+        try:
+            flat[("waves", "waves")] = _scenario_waves(data["waves"])
+        except ValueError as exc:
+            raise NetworkError(f"{name}: {exc}") from None
     walkers = {k: _table(name, f"walkers.{k}", v, Walker, name=k) for k, v in data.get("walkers", {}).items()}
     types = {k: _table(name, f"line_types.{k}", v, LineType, name=k) for k, v in data.get("line_types", {}).items()}
     points = {k: _table(name, f"points.{k}", _at_tow_point(v, walkers), Point, name=k)
@@ -584,6 +649,9 @@ def to_dict(net: Network) -> dict:
 
     water = {k: getattr(net, k) for k in _SECTIONS["water"]}
     sim = {k: getattr(net, k) for k in _SECTIONS["simulation"] if getattr(net, k) is not None}
+    water["wave_components"] = [list(r) for r in net.wave_components]
+    if not net.wave_components:
+        del water["wave_components"]
     out = {"water": {k: (list(v) if isinstance(v, tuple) else v) for k, v in water.items()},
            "simulation": sim,
            "line_types": {k: table(v) for k, v in net.line_types.items()},
@@ -598,4 +666,6 @@ def to_dict(net: Network) -> dict:
                           for k, w in net.walkers.items()}
     if net.current is not None:
         out["water"]["current"] = {k: v for k, v in net.current.to_dict().items() if v is not None}
+    if net.waves is not None:
+        out["waves"] = net.waves.to_dict()
     return out

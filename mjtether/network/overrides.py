@@ -2,6 +2,8 @@
 
 * ``simulation.KEY`` and ``water.KEY`` (``NETWORK_KEYS``): numbers (``simulation.timestep=none``:
   the largest stable step; ``simulation.start=steady|as_written``);
+* ``waves.KEY``: a key of the sea's ``[waves]`` table (``scenario.sea.Waves``, a scenario's keys
+  and checks: ``waves.hs=4``, ``waves.type=jonswap``), on the network's sea or a flat one;
 * ``line_types.NAME.KEY``, ``lines.NAME.KEY``, ``points.NAME.KEY``, ``bodies.NAME.KEY``,
   ``vehicles.NAME.KEY`` and ``walkers.NAME.KEY`` (``PART_KEYS``): a field of the named part, a
   number, a whole number (``lines.NAME.segments``), three numbers ``[x, y, z]`` (a position, a
@@ -68,8 +70,14 @@ class Key:
     unit: str
 
 
+def _wave_keys() -> dict:
+    """``waves.KEY``'s keys: {field: (kind, unit)} of ``scenario.sea.Waves``."""
+    from mjtether.scenario.sea import Waves
+    return {f.name: (f.metadata["param"].kind, f.metadata["param"].unit) for f in dataclasses.fields(Waves)}
+
+
 def _unknown(key: str) -> NetworkError:
-    flat = ", ".join(f"{s}.{k}" for s in ("simulation", "water") for k in sorted(NETWORK_KEYS[s]))
+    flat = ", ".join([*(f"{s}.{k}" for s in ("simulation", "water") for k in sorted(NETWORK_KEYS[s])), "waves.KEY"])
     parts = ", ".join(f"{s}.NAME.KEY" for s in PART_KEYS)
     return NetworkError(f"--set {key}: a network takes --set KEY=VALUE with KEY one of {flat}, or {parts} "
                         f"(a part's field: {'; '.join(f'{s}: ' + ', '.join(PART_KEYS[s]) for s in PART_KEYS)})")
@@ -90,6 +98,11 @@ def resolve(net: Network, key: str) -> Key:
         if rest not in NETWORK_KEYS[sec]:
             raise _unknown(key)
         return Key(sec, None, rest, *NETWORK_KEYS[sec][rest])
+    if sec == "waves":
+        keys = _wave_keys()
+        if rest not in keys:
+            raise NetworkError(f"--set {key}: the sea's keys (waves.KEY) are {', '.join(keys)}")
+        return Key(sec, None, rest, *keys[rest])
     if sec not in PART_KEYS or "." not in rest:
         raise _unknown(key)
     name, _, field_ = rest.rpartition(".")
@@ -134,9 +147,11 @@ def parse(k: Key, key: str, text: str):
 def _apply(net: Network, changes) -> Network:
     """``net`` with ``changes`` (``(Key, value, label)``) made: each part's together, replaced
     (its checks), then the network (its checks); raises ValueError."""
-    top, parts = {}, {}
+    top, parts, sea = {}, {}, {}
     for k, value, _ in changes:
-        if k.name is None:
+        if k.section == "waves":
+            sea[k.field] = value
+        elif k.name is None:
             top[k.field] = value
         else:
             parts.setdefault(k.section, {}).setdefault(k.name, {})[k.field] = value
@@ -145,6 +160,9 @@ def _apply(net: Network, changes) -> Network:
         for name, fields in edits.items():
             new[name] = dataclasses.replace(new[name], **fields)
         top[sec] = tuple(new.values()) if sec == "lines" else new
+    if sea:
+        from mjtether.scenario.sea import Waves
+        top["waves"] = dataclasses.replace(net.waves if net.waves is not None else Waves(), **sea)
     return dataclasses.replace(net, **top) if top else net
 
 

@@ -45,7 +45,7 @@ from typing import NamedTuple
 import mujoco
 import numpy as np
 
-from mjtether.cable import builder, softening, stability
+from mjtether.cable import builder, snap, softening, stability
 from mjtether.cable import ends as line_ends
 from mjtether.files.results_folder import line_arrays, write_folder
 from mjtether.physics import water as wm
@@ -68,7 +68,8 @@ stability limits allowed it; at 5 ms they settle as at 2 ms, 0.01 %.)"""
 def water_of(net: Network) -> wm.WaterColumn:
     """The network's water column (its current's headings from degrees to radians): a
     ``[water.current]`` made into its ``physics.water`` profile by the scenario's own code
-    (``scenario.scene.current_from``), or the ``current_depths`` table."""
+    (``scenario.scene.current_from``), or the ``current_depths`` table; its sea, ``[waves]`` or
+    ``water.wave_components`` (``Network.wave_field``: the scenario's ``sea.wave_field``)."""
     current = None
     if net.current is not None:
         from mjtether.scenario.scene import current_from
@@ -77,7 +78,7 @@ def water_of(net: Network) -> wm.WaterColumn:
         current = wm.TabulatedCurrent(net.current_depths, net.current_speeds,
                                       [math.radians(h) for h in net.current_headings_deg])
     return wm.WaterColumn(depth=net.depth, density=wm.ConstantDensity(net.rho), gravity=net.gravity,
-                          **({"current": current} if current is not None else {}))
+                          waves=net.wave_field(), **({"current": current} if current is not None else {}))
 
 
 def _quat(rpy_deg) -> list:
@@ -210,10 +211,12 @@ class NetworkRun:
         d = self.sim.data
         for ln in self.net.lines:
             bt = self.sim.tethers[ln.name]
-            h = self.history.setdefault(ln.name, {"nodes": [], "tension": [], "compression": []})
+            h = self.history.setdefault(ln.name, {"nodes": [], "tension": [], "compression": [], "peak_tension": []})
             h["nodes"].append(bt.all_nodes(d)[::-1])
-            h["tension"].append(bt.element_tension(d)[::-1])
+            tension = bt.element_tension(d)
+            h["tension"].append(tension[::-1])
             h["compression"].append(bt.take_peak_compression(d)[::-1])  # (the largest since the last sample)
+            h["peak_tension"].append(np.maximum(bt.snaps.take_interval_max(), tension)[::-1])  # (the same)
         self.states.append(d.qpos.copy())  # (the bodies' and points' poses at sim.time: poses_now)
 
     def point_position(self, name: str) -> np.ndarray:
@@ -594,8 +597,9 @@ def _run(r: NetworkRun, progress=None, video=None) -> np.ndarray:
             settle(r, net.settle)
         every = max(1, round(net.output_interval / r.timestep))
         total = max(1, round(net.duration / r.timestep))
-        for bt in r.sim.tethers.values():  # (the settling's pushes are not the run's)
+        for bt in r.sim.tethers.values():  # (the settling's pushes are not the run's; its snaps from here)
             bt.clear_peak_compression()
+            bt.start_snaps()
         first_forces(r)
         rec = video(r) if video is not None else None
 
@@ -626,9 +630,11 @@ def write(r: NetworkRun, rows: np.ndarray, folder, *, source=None, wall_time: fl
     ``summary.json`` and, with ``plots``, ``tension.png`` and ``profile.png``
     (``network.plots``). ``lines.npz`` holds ``time_s`` (the samples' times, s)
     and, per line NAME, from end A to end B: ``lineNAME`` (its final deployed nodes, m),
-    ``lineNAME_nodes`` (samples, n+1, 3; m), ``lineNAME_tension`` and ``lineNAME_compression``
-    (samples, n; N, >= 0: each element's pull, and the largest push its constraint made since the
-    previous sample, which a cable cannot and the tension leaves out; see ``NetworkRun.record``)."""
+    ``lineNAME_nodes`` (samples, n+1, 3; m), ``lineNAME_tension``, ``lineNAME_compression`` and
+    ``lineNAME_peak_tension`` (samples, n; N, >= 0: each element's pull, the largest push its
+    constraint made since the previous sample, which a cable cannot and the tension leaves out,
+    and its largest pull since then; see ``NetworkRun.record``); ``summary.json`` each line's
+    snap loads (``snap_loads``, ``cable.snap.snap_report``)."""
     net = r.net
     cols = columns(net)
     arrays = {"time_s": rows[:, 0]}
@@ -650,8 +656,10 @@ def write(r: NetworkRun, rows: np.ndarray, folder, *, source=None, wall_time: fl
                             "final_B_tension_N": final[f"line{ln.name}_B_tension_N"],
                             "peak_tension_N": float(rows[:, [cols.index(f"line{ln.name}_{e}_tension_N")
                                                              for e in "AB"]].max()),
-                            "effective_EA": r.effective_EA.get(ln.name)}
+                            "effective_EA": r.effective_EA.get(ln.name),
+                            "snap_count": len(r.sim.tethers[ln.name].snaps.events)}
                   for ln in net.lines},
+        "snap_loads": {ln.name: snap.snap_report(r.sim.tethers[ln.name]) for ln in net.lines},
         "network": to_dict(net),
     }
     if r.video is not None:

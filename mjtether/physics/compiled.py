@@ -321,6 +321,36 @@ def add_bending_forces(x, k, f):
             f[i + 2, j] -= gb
 
 
+@jit
+def add_wave_inertia(x, rest, area, diameter, surface, rho, acceleration, added_normal, added_axial, f):
+    """``hydro.wave_inertia`` added into ``f`` (n+1, 3), N: the waves' Froude-Krylov plus
+    added-mass load, per element (n,) its rest length (m), displaced area per metre (m^2),
+    diameter (m), the surface's height over it (m) and the added mass's area per metre normal to
+    and along it (m^2); ``rho`` (2n,) and the fluid's local ``acceleration`` (2n, 3), m/s^2, at
+    the Gauss points (element i's at 2i and 2i + 1, as ``element_water``)."""
+    n = x.shape[0] - 1
+    t = np.empty(3)
+    for i in range(n):
+        for j in range(3):
+            t[j] = x[i + 1, j] - x[i, j]
+        inv = 1.0 / max(math.sqrt(t[0] * t[0] + t[1] * t[1] + t[2] * t[2]), 1e-12)
+        for j in range(3):
+            t[j] *= inv
+        h = 0.5 * diameter[i] * math.sqrt(max(1.0 - t[2] * t[2], 0.0))
+        frac = _wet_fraction(x[i, 2] - surface[i], x[i + 1, 2] - surface[i], h)[0]
+        for g in range(2):
+            s = 0.5 - GAUSS if g == 0 else 0.5 + GAUSS
+            k = 2 * i + g
+            at = acceleration[k, 0] * t[0] + acceleration[k, 1] * t[1] + acceleration[k, 2] * t[2]
+            mass = 0.5 * rho[k] * rest[i] * frac  # kg per m^2 of area
+            for j in range(3):
+                axial = at * t[j]
+                load = mass * (area[i] * acceleration[k, j] + added_normal[i] * (acceleration[k, j] - axial)
+                               + added_axial[i] * axial)
+                f[i, j] += (1.0 - s) * load
+                f[i + 1, j] += s * load
+
+
 # --------------------------------------------------------------------------- seabed friction
 
 

@@ -1,5 +1,8 @@
 """First-order Gauss-Markov processes, and the slowly varying current that Hong et al. (2020)
-drive their USV and UUV with (pure NumPy; issue 43, not yet wired into the runs).
+drive their USV and UUV with (pure NumPy). ``GaussMarkovCurrent`` is a water column's current
+profile (``physics.water.CurrentProfile``, uniform over the depth): a run steps it before each
+physics step (``scenario.weather``, from ``[water.current.gauss_markov]``), and every line,
+body and vehicle reads the current it gives then.
 
 Hong, Park, Lee, Park and Kim (2020, J. Mar. Sci. Eng. 8, 485), Sec. 2.4.3: "it is common to
 model current in marine environment using the first Gauss-Markov process [Fossen]", with the
@@ -40,6 +43,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from mjtether import _checks
+from mjtether.physics.water import CurrentProfile
 
 NOISE_BLOCK = 1024
 """How many pairs of normal deviates a current draws from its generator at a time (the stream,
@@ -109,7 +113,7 @@ class GaussMarkov:
         return min(max(x, self.lower), self.upper)
 
 
-class GaussMarkovCurrent:
+class GaussMarkovCurrent(CurrentProfile):
     """A depth-uniform current whose speed (m/s) and direction (rad) are two first-order
     Gauss-Markov processes (module docstring), reproducible from ``seed``.
 
@@ -118,7 +122,8 @@ class GaussMarkovCurrent:
     ``heading`` (rad, from +x towards +y, the way the water flows) with ``heading_mu`` (1/s) and
     ``heading_sigma`` (rad/sqrt(s)), held in [``heading_min``, ``heading_max``]; the defaults
     (no noise) keep it constant. Both start at their means; ``step(dt)`` advances them by one
-    exact step, ``reset()`` starts again from the seed."""
+    exact step, ``reset()`` starts again from the seed. As a ``CurrentProfile`` it gives its
+    present velocity at every height (``__call__``, ``speed_at``)."""
 
     def __init__(self, mean_speed: float = 0.0, mu: float = 0.0, sigma: float = 0.0,
                  v_min: float = 0.0, v_max: float = math.inf, heading: float = 0.0,
@@ -161,6 +166,20 @@ class GaussMarkovCurrent:
             self.step(dt)
             out[k] = self.speed, self.heading
         return out[:, 0], out[:, 1]
+
+    def speed_at(self, z) -> np.ndarray:
+        """The present speed (m/s) at every height ``z`` (m): the current is uniform over the depth."""
+        return np.full(np.shape(z), float(self.speed))
+
+    def max_speed(self, depth: float) -> float:
+        """The largest speed (m/s) to plan a time step for: v_max, or, for a stationary process
+        (mu > 0), the mean plus 5 stationary standard deviations if that is lower (exceeded with
+        probability 3e-7 by one sample of the unsaturated process)."""
+        p = self.speed_process
+        top = float(p.upper)
+        if p.mu > 0.0:
+            top = min(top, p.mean + 5.0 * math.sqrt(stationary_variance(p.mu, p.sigma)))
+        return max(top, self.speed)
 
     def velocity(self) -> np.ndarray:
         """The current now (m/s, world, shape (3,)): speed (cos dir, sin dir, 0)."""

@@ -10,6 +10,19 @@ integrates it implicitly: the rotational part exactly (free-joint angular dofs a
 body frame), the translational part per world axis (x and y take the mean of the body's
 x and y added masses, z the body's z added mass; exact for a body that stays upright).
 Bodies without a free joint get buoyancy and drag only.
+
+Waves (``WaterColumn.waves``): the sea is evaluated once per step at the centre of buoyancy
+(where the loads act; the body is taken small against the wave length). The drag acts on the
+current plus the particle velocity there, less the body's velocity; the wet fraction follows the
+instantaneous surface (the centre of buoyancy's height over the elevation above it, over
+``height``); and Morison's inertia term rho (V + V_a) a, Froude-Krylov plus the added mass (C_m =
+1 + C_a), acts on the particles' local acceleration a, times the wet fraction. The added mass in
+it is what the model carries: a free body's armature per world axis (x and y the mean of its x and
+y added masses, z its z), so that a neutrally buoyant free body moves with the water; a body
+without a free joint (welded, pinned) takes its body-axis added masses turned to the world,
+R diag(m_a) R^T. These loads run in Python (``wave_loads``, the sea from ``WaveField.state``,
+compiled where the kernels are; the native callback and the body's compiled kernel know no
+waves); without waves nothing changes.
 """
 
 from __future__ import annotations
@@ -122,6 +135,7 @@ class BoundBodyHydro:
                 ma[1] * r[2] ** 2 + ma[2] * r[1] ** 2, ma[0] * r[2] ** 2 + ma[2] * r[0] ** 2,
                 ma[0] * r[1] ** 2 + ma[1] * r[0] ** 2]
             make_not_simple(model, self.id)
+        self._free = jnt >= 0 and model.jnt_type[jnt] == mujoco.mjtJoint.mjJNT_FREE
         self._vel = np.zeros(6)
         # the compiled kernel (``compiled``), where it runs and knows the water's profiles
         self._codes = compiled.profile_codes(water) if compiled.backend() == "numba" else None
@@ -130,7 +144,7 @@ class BoundBodyHydro:
     def native_table(self):
         """This body's arrays for the native callback (``native``, slots ``B_*``), or None where its
         loads need Python (the NumPy kernels, or a water profile the compiled kernels do not know)."""
-        if self._codes is None:
+        if self._codes is None or self.water.waves is not None:
             return None
         dkind, dp, ckind, cp = self._codes
         h = self.hydro
@@ -146,6 +160,9 @@ class BoundBodyHydro:
         w, v0 = self._vel[:3], self._vel[3:]
         rx, ry, rz = p - data.xpos[self.id]  # v at the centre of buoyancy = v0 + w x r
         v = v0 + (w[1] * rz - w[2] * ry, w[2] * rx - w[0] * rz, w[0] * ry - w[1] * rx)
+        if self.water.waves is not None:
+            f, tq = self.wave_loads(R, p, v, w, float(data.time))
+            return f, tq, p
         if self._codes is not None:
             compiled.rigid_body_loads(R, p, v, w, self.hydro.volume, self.hydro.height,
                                       self._cd, self._area, self._ang, *self._codes, self.water.gravity,
@@ -156,6 +173,32 @@ class BoundBodyHydro:
                                  rho_fn=self.water.rho, current_fn=self.water.velocity,
                                  gravity=self.water.gravity)
         return f, tq, p
+
+    def added_mass_world(self, R: np.ndarray) -> np.ndarray:
+        """The added mass (kg, 3x3, world axes) the model carries at orientation ``R``: a free
+        body's armature per world axis, else R diag(m_a) R^T (see the module docstring)."""
+        ma = np.asarray(self.hydro.added_mass, dtype=float)
+        if self._free:
+            return np.diag([0.5 * (ma[0] + ma[1])] * 2 + [ma[2]])
+        return (R * ma) @ R.T
+
+    def wave_loads(self, R, p, v, w, t: float):
+        """Force (N) at the centre of buoyancy ``p`` (m, world) moving at ``v`` (m/s) and torque
+        (N m), world frame, in the water column's waves at time ``t`` (s): buoyancy under the
+        instantaneous surface, drag on current + particle velocity - ``v``, angular drag on ``w``
+        (rad/s, world), and the inertia load rho (V + V_a) a (see the module docstring)."""
+        h, water = self.hydro, self.water
+        eta, uw, aw = water.waves.state(p[None, :], t)
+        zz = np.array([min(float(p[2]), 0.0)])
+        rho = float(water.rho(zz)[0])
+        rise = float(p[2] - eta[0])  # the centre of buoyancy's height over the surface (m)
+        frac = min(max(0.5 - rise / h.height, 0.0), 1.0) if h.height > 0 else float(rise <= 0)
+        vrel_b = (water.velocity(zz)[0] + uw[0] - v) @ R  # body axes
+        force = R @ ((0.5 * rho * frac) * self._cd * self._area * np.abs(vrel_b) * vrel_b)
+        force += frac * (rho * h.volume * aw[0] + self.added_mass_world(R) @ aw[0])
+        force[2] += rho * water.gravity * h.volume * frac
+        w_b = w @ R
+        return force, R @ (-frac * self._ang * np.abs(w_b) * w_b)
 
     def apply(self, model, data):
         f, tq, p = self.loads(model, data)

@@ -157,14 +157,23 @@ class RAOTable:
 
     def at(self, periods, rel_headings_deg, outside: str = "error") -> np.ndarray:
         """Complex RAOs (n, 6) at wave periods (s) and headings relative to the ship (deg, any
-        value: wrapped). A period outside the table's range is refused (``outside="error"``) or
-        given RAO 0 (``"zero"``: the waves too short or too long for the table move nothing)."""
-        if outside not in ("error", "zero"):
-            raise ValueError(f"outside = {outside!r}: must be 'error' or 'zero'")
+        value: wrapped). A period outside the table's range is refused (``outside="error"``),
+        given RAO 0 (``"zero"``: the waves too short or too long for the table move nothing) or,
+        with ``"short_zero"``, RAO 0 below the shortest period only (a ship does not follow waves
+        much shorter than itself; a long wave it does follow, so a period above the table's is
+        refused)."""
+        if outside not in OUTSIDE:
+            raise ValueError(f"outside = {outside!r}: must be one of {', '.join(OUTSIDE)}")
         T = np.atleast_1d(np.asarray(periods, dtype=float))
         b = np.atleast_1d(np.asarray(rel_headings_deg, dtype=float))
         out = (T < self.periods[0]) | (T > self.periods[-1])
-        if np.any(out) and outside == "zero":
+        if outside == "short_zero":
+            out = T < self.periods[0]
+            if np.any(T > self.periods[-1]):
+                i = int(np.flatnonzero(T > self.periods[-1])[0])
+                raise ValueError(f"{self.name}: wave period[{i}] = {T[i]:g} s is longer than the table's longest, "
+                                 f"{self.periods[-1]:g} s")
+        if np.any(out) and outside != "error":
             H = np.zeros((T.size, 6), dtype=complex)
             H[~out] = self.at(T[~out], b[~out])
             return H
@@ -266,16 +275,45 @@ class _Harmonic:
     ship axes (m, rad), c (n, 6) complex, omega (n,) rad/s; ``heading``: the ship's x axis in the
     world, from +x towards +y (rad)."""
 
-    def __init__(self, omega: np.ndarray, c: np.ndarray, heading: float):
+    def __init__(self, omega: np.ndarray, c: np.ndarray, heading: float, ramp_s: float = 0.0):
         self._omega, self._c = omega, c
         ch, sh = math.cos(heading), math.sin(heading)
         self._R = np.array([[ch, -sh, 0.0], [sh, ch, 0.0], [0.0, 0.0, 1.0]])  # ship axes -> world
+        self.ramp_s = _checks.non_negative("ramp_s", ramp_s, "s")
+        self._last = (math.nan, None)  # (t, q and its two time derivatives (3, 6)): see _q
+
+    def _at(self, t: float) -> np.ndarray:
+        """q and its first two time derivatives (3, 6) at one time ``t`` (s), from one complex
+        exponential, kept for the next call at the same ``t`` (the ship, the winch's compensator
+        and the hull's pose all read the motion of one step)."""
+        if t == self._last[0]:
+            return self._last[1]
+        e = np.exp(1j * t * self._omega)
+        iw = 1j * self._omega
+        q = np.array([(e @ self._c).real, ((e * iw) @ self._c).real, ((e * iw * iw) @ self._c).real])
+        if self.ramp_s > 0.0 and t < self.ramp_s:  # (the build-up, by Leibniz's rule)
+            from .waves import build_up
+            r, dr, ddr = (float(v) for v in build_up(t, self.ramp_s))
+            q = np.array([r * q[0], r * q[1] + dr * q[0], r * q[2] + 2.0 * dr * q[1] + ddr * q[0]])
+        self._last = (t, q)
+        return q
 
     def _q(self, t, order: int) -> np.ndarray:
-        """The ``order``-th time derivative of q at times ``t`` (s): (6,) or (len(t), 6)."""
+        """The ``order``-th time derivative of q at times ``t`` (s): (6,) or (len(t), 6); with a
+        build-up (``ramp_s`` > 0, ``waves.build_up``) of the ramped motion r(t) q(t), by Leibniz's
+        rule."""
+        if np.ndim(t) == 0 and order <= 2:
+            return self._at(float(t))[order].copy()
         t = np.asarray(t, dtype=float)
-        e = np.exp(1j * np.multiply.outer(np.atleast_1d(t), self._omega))      # (m, n)
-        q = ((e * (1j * self._omega) ** order) @ self._c).real
+        tt = np.atleast_1d(t)
+        e = np.exp(1j * np.multiply.outer(tt, self._omega))      # (m, n)
+        if self.ramp_s > 0.0 and np.any(tt < self.ramp_s):
+            from .waves import build_up
+            r = build_up(tt, self.ramp_s)
+            q = sum(math.comb(order, j) * r[j][:, None] * ((e * (1j * self._omega) ** (order - j)) @ self._c).real
+                    for j in range(order + 1))
+        else:
+            q = ((e * (1j * self._omega) ** order) @ self._c).real
         return q[0] if t.ndim == 0 else q
 
     def pose(self, t) -> np.ndarray:
@@ -292,7 +330,14 @@ class _Harmonic:
         return PointMotion(*(self._moved(self._q(t, n), r) for n in range(3)))
 
     def _moved(self, q: np.ndarray, r: np.ndarray) -> np.ndarray:
-        return (q[..., :3] + np.cross(q[..., 3:], r)) @ self._R.T
+        a, b = q[..., 3:], r  # (theta x r, written out: np.cross is slow on one vector)
+        cross = np.stack([a[..., 1] * b[2] - a[..., 2] * b[1], a[..., 2] * b[0] - a[..., 0] * b[2],
+                          a[..., 0] * b[1] - a[..., 1] * b[0]], axis=-1)
+        return (q[..., :3] + cross) @ self._R.T
+
+
+OUTSIDE = ("error", "zero", "short_zero")
+"""What ``RAOTable.at`` does with a wave period outside the table's (see it)."""
 
 
 class ShipMotion(_Harmonic):
@@ -303,17 +348,19 @@ class ShipMotion(_Harmonic):
     those five arrays in that order; ``heading``: the ship's heading (rad, world, its +x from +x
     towards +y); ``origin``: the reference point's rest position in the world (x, y, m), where
     the waves' phases are taken; ``outside``: a wave period outside the table's range is refused
-    (``"error"``) or moves nothing (``"zero"``; say so where a spectrum's tail passes the table).
+    (``"error"``) or moves nothing (``"zero"``; say so where a spectrum's tail passes the table),
+    or only one shorter than the table's shortest moves nothing (``"short_zero"``); ``ramp_s``:
+    the sea's build-up (s, ``waves.build_up``: the motion times r(t); 0: none).
     """
 
     def __init__(self, raos: RAOTable, components, heading: float = 0.0, origin=(0.0, 0.0),
-                 outside: str = "error"):
+                 outside: str = "error", ramp_s: float = 0.0):
         a, omega, k, b, e = _components(components)
         heading = _checks.finite("heading", heading)
         x0, y0 = _checks.numbers("origin", origin, count=(2,), unit="m")
         H = raos.at(2.0 * math.pi / omega, np.degrees(b - heading), outside)
         psi = k * (x0 * np.cos(b) + y0 * np.sin(b)) + e
-        super().__init__(omega, (a * np.exp(-1j * psi))[:, None] * H, heading)
+        super().__init__(omega, (a * np.exp(-1j * psi))[:, None] * H, heading, ramp_s)
 
 
 class PrescribedHeave(_Harmonic):

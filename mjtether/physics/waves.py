@@ -1,6 +1,8 @@
 """Linear (Airy) surface waves: regular waves, JONSWAP and Pierson-Moskowitz seas, and the
-particle kinematics that Morison's equation needs (issue 43; pure NumPy, not yet wired into
-the runs).
+particle kinematics that Morison's equation needs (the runs' lines, bodies and ship take them
+through ``physics.water.WaterColumn.waves``), and the sea's build-up ramp. ``WaveField.state``
+runs a compiled twin (``state_kernel``) where the compiled kernels run (``compiled.backend()``);
+its NumPy code, ``WaveField.reference_state``, is the reference (``MJTETHER_KERNELS=numpy``).
 
 Frame and units: world, z up, mean water line z = 0, seabed z = -depth; SI throughout
 (m, s, rad). A wave's heading is the direction it travels *towards*, measured from +x towards
@@ -50,6 +52,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from mjtether import _checks
+from mjtether.physics import compiled
+from mjtether.physics.compiled import jit
 
 _DEEP_KH = 40.0
 """k h beyond which tanh(k h) is 1 to double precision: the deep-water root k = omega^2/g."""
@@ -283,21 +287,44 @@ def _sincos(theta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return s, c
 
 
+def build_up(t, duration: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The sea's build-up ramp at time(s) ``t`` (s) and its first and second time derivatives
+    (1/s, 1/s^2): r = (1 - cos(pi t / duration)) / 2 from t = 0 to ``duration`` (s), 1 after
+    (0 before); ``duration`` 0: no ramp (r = 1 from t = 0). A half-cosine, so that the motion it
+    multiplies starts from rest with no jump in position or velocity (OrcaFlex's build-up stage
+    ramps its waves and vessel motions the same way)."""
+    t = np.asarray(t, dtype=float)
+    if duration <= 0.0:
+        one = np.ones_like(t)
+        return one, 0.0 * one, 0.0 * one
+    w = math.pi / duration
+    inside = (t > 0.0) & (t < duration)
+    phase = w * np.clip(t, 0.0, duration)
+    r = np.where(t >= duration, 1.0, np.where(inside, 0.5 * (1.0 - np.cos(phase)), 0.0))
+    return r, np.where(inside, 0.5 * w * np.sin(phase), 0.0), np.where(inside, 0.5 * w * w * np.cos(phase), 0.0)
+
+
 class WaveField:
     """The surface and the particle kinematics of a sum of linear components in water of
     ``depth`` (m, or ``math.inf``) under ``g`` (m/s^2). ``stretching``: ``"wheeler"`` (default)
     or ``"none"`` (the module docstring says what each does). The components' wavenumbers
     must obey the dispersion relation at this depth (build them with the same depth).
+    ``ramp_s``: the sea's build-up (s, ``build_up``): the elevation and velocity are the
+    linear sea's times r(t), the acceleration the time derivative of that (r du/dt + r' u);
+    0 (the default): the full sea from t = 0.
 
-    Every call is vectorised over points and components: one (N, M) array per step of the
-    kernel, no Python loop. Measured (2026-12-02, 2 shared cores under load, best of 7 x 300):
+    The NumPy reference is vectorised over points and components: one (N, M) array per step of
+    the kernel, no Python loop. Measured (2026-12-02, 2 shared cores under load, best of 7 x 300):
     ``kinematics`` of 200 points x 100 components 310-370 us (Wheeler), 270-290 us ("none"),
     of which ``_sincos`` is 130 us (NumPy's sin and cos would be 500 us); ``elevation`` of one
-    point 10-12 us."""
+    point 10-12 us. The compiled twin (``compiled``: True where it runs): 200 points x 100
+    components 49 us (the sines and cosines 30 us, the profiles 20 us), one point 5 us
+    (``scripts/bench_waves.py``); it keeps no state between calls."""
 
     STRETCHINGS = ("wheeler", "none")
 
-    def __init__(self, components: WaveComponents, depth=math.inf, g=9.81, stretching: str = "wheeler"):
+    def __init__(self, components: WaveComponents, depth=math.inf, g=9.81, stretching: str = "wheeler",
+                 ramp_s: float = 0.0):
         if not isinstance(components, WaveComponents):
             raise ValueError(f"components must be WaveComponents (from regular, jonswap, ...), got "
                              f"{type(components).__name__}")
@@ -311,6 +338,7 @@ class WaveField:
             raise ValueError(f"components: their k do not obey omega^2 = g k tanh(k h) at depth {h:g} m, "
                              f"g {g:g} m/s^2; build them with the same depth and g")
         self.components, self.depth, self.g, self.stretching = c, h, g, stretching
+        self.ramp_s = _checks.non_negative("ramp_s", ramp_s, "s")
         self._kxy = np.stack([c.k * np.cos(c.heading), c.k * np.sin(c.heading)])  # (2, M) rad/m
         self._q = np.where(kh < 350.0, np.exp(-np.minimum(kh, 350.0) * 2.0), 0.0)  # exp(-2 k h), the
         # seabed's image term of the profiles (0 where it would be a subnormal number: those are slow)
@@ -320,6 +348,10 @@ class WaveField:
         self._w_z = scale
         self._w_h2 = self._w_h * c.omega[:, None]  # the accelerations' weights, a omega^2 / (1 - q)
         self._w_z2 = scale * c.omega
+        # the compiled twin (``state_kernel``), where the compiled kernels run: its per-component rows
+        self.compiled = compiled.backend() == "numba"
+        self._table = np.ascontiguousarray(np.stack([self._kxy[0], self._kxy[1], c.phase, c.omega, c.amplitude, c.k,
+                                                     self._q, *self._w_h.T, self._w_z, *self._w_h2.T, self._w_z2]))
 
     def _theta(self, xy: np.ndarray, t: float) -> np.ndarray:
         """The phases theta (N, M) of the components at horizontal positions ``xy`` (N, 2) and
@@ -333,13 +365,19 @@ class WaveField:
         ``x``, ``y`` (m, world) and times ``t`` (s): arrays broadcast together (a float for
         scalars)."""
         c = self.components
+        if np.ndim(x) == np.ndim(y) == np.ndim(t) == 0 and self.compiled:  # (the compiled twin, surface only)
+            eta, p = np.empty(1), np.array([[x, y, 0.0]], dtype=float)
+            state_kernel(p, _checks.finite("t", t), self._table, self.depth, False, self.ramp_s, eta, p, p, False)
+            return float(eta[0])
         if np.ndim(x) == np.ndim(y) == np.ndim(t) == 0:  # one point, one time: (M,) arrays only
             theta = self._theta(np.array([[x, y]], dtype=float), float(t))[0]
-            return float(np.cos(theta) @ c.amplitude)
+            eta = float(np.cos(theta) @ c.amplitude)
+            return eta if self.ramp_s == 0.0 or t >= self.ramp_s else eta * float(build_up(t, self.ramp_s)[0])
         x, y, t = np.broadcast_arrays(np.asarray(x, dtype=float), np.asarray(y, dtype=float),
                                       np.asarray(t, dtype=float))
         theta = x[..., None] * self._kxy[0] + y[..., None] * self._kxy[1] - t[..., None] * c.omega + c.phase
-        return (np.cos(theta) @ c.amplitude)[()]
+        eta = np.cos(theta) @ c.amplitude
+        return (eta if self.ramp_s == 0.0 else eta * build_up(t, self.ramp_s)[0])[()]
 
     def kinematics(self, points, t) -> tuple[np.ndarray, np.ndarray]:
         """(velocity (N, 3) m/s, acceleration (N, 3) m/s^2) of the water at ``points`` (N, 3),
@@ -351,13 +389,28 @@ class WaveField:
     def state(self, points, t) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(elevation (N,) m, velocity (N, 3) m/s, acceleration (N, 3) m/s^2) at ``points``
         (N, 3), world m, at time ``t`` (s): ``elevation`` of each point's (x, y) and
-        ``kinematics``, from one evaluation of the phases."""
-        p = np.asarray(points, dtype=float)
-        if p.ndim != 2 or p.shape[1] != 3:
-            raise ValueError(f"points must be an (N, 3) array of world positions (m), got shape {p.shape}")
+        ``kinematics``, from one evaluation of the phases. By the compiled twin
+        (``state_kernel``) where the compiled kernels run (``compiled``), else by
+        ``reference_state``: the same numbers to 1e-12 of the largest value."""
+        if not self.compiled:
+            return self.reference_state(points, t)
+        p = _points_arg(points)
+        t = _checks.finite("t", t)
+        eta, vel, acc = np.empty(p.shape[0]), np.empty(p.shape), np.empty(p.shape)
+        state_kernel(p, t, self._table, self.depth, self.stretching == "wheeler", self.ramp_s, eta, vel, acc, True)
+        return eta, vel, acc
+
+    def reference_state(self, points, t) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """``state`` in NumPy, the reference that states the physics (``MJTETHER_KERNELS=numpy``
+        runs it): one (N, M) array per step, no Python loop."""
+        p = _points_arg(points)
         t = _checks.finite("t", t)
         sin, cos = _sincos(self._theta(p[:, :2], t))
         eta = cos @ self.components.amplitude
+        r = dr = None
+        if t < self.ramp_s:  # (the build-up: the surface r eta, the kinematics under it r u)
+            r, dr, _ = (float(v) for v in build_up(t, self.ramp_s))
+            eta = r * eta
         z, h = p[:, 2], self.depth
         if self.stretching == "wheeler":
             wet = z <= eta
@@ -376,6 +429,135 @@ class WaveField:
         velocity[:, 2] = (sh * sin) @ self._w_z
         acceleration[:, :2] = (ch * sin) @ self._w_h2
         acceleration[:, 2] = -((sh * cos) @ self._w_z2)
+        if r is not None:  # d(r u)/dt = r du/dt + r' u
+            acceleration *= r
+            acceleration += dr * velocity
+            velocity *= r
         velocity[~wet] = 0.0
         acceleration[~wet] = 0.0
         return eta, velocity, acceleration
+
+
+def _points_arg(points) -> np.ndarray:
+    p = np.asarray(points, dtype=float)
+    if p.ndim != 2 or p.shape[1] != 3:
+        raise ValueError(f"points must be an (N, 3) array of world positions (m), got shape {p.shape}")
+    return p
+
+
+_BLOCK = 32
+"""Points per block of ``state_kernel``: its (M, 32) work arrays stay in the core's caches."""
+_DEEP = 40.0
+"""``state_kernel`` leaves out a component's kinematics over a block of points all below its
+reach, k z' < -40 (exp(-40) = 4e-18 of its value at the surface)."""
+_LOG2E, _LN2_HI, _LN2_LO = 1.0 / math.log(2.0), 6.93147180369123816490e-01, 1.90821492927058770002e-10
+_E2, _E3, _E4, _E5, _E6, _E7, _E8, _E9, _E10, _E11, _E12, _E13 = (1.0 / math.factorial(n) for n in range(2, 14))
+# (exp r = sum r^n / n! to r^13, |r| <= ln 2 / 2; the series of _sincos as numbers the kernel's loops inline)
+_C1, _C2, _C3, _C4, _C5, _C6 = _COS[1:]
+_S1, _S2, _S3, _S4, _S5, _S6 = _SIN[1:]
+
+
+@jit
+def state_kernel(p, t, table, depth, wheeler, ramp_s, eta, vel, acc, kinematics):
+    """``WaveField.reference_state`` compiled, into ``eta`` (N,), ``vel`` and ``acc`` (N, 3)
+    (only ``eta`` where ``kinematics`` is False; Wheeler stretching where ``wheeler``); ``table``
+    (13, M): the components' kx, ky (rad/m), phase (rad), omega (rad/s), amplitude (m), k (rad/m),
+    exp(-2 k h), then the velocity's and the acceleration's weights (``WaveField.__init__``).
+
+    The same expressions in the same order but for the sums over components (sequential here)
+    and two left-out terms: a component whose k z' is below -40 over a whole block of points
+    (4e-18 of its surface value; the reference clips k z' at -350), and exp evaluated as 2^n
+    times a Taylor series to r^13 (|r| <= ln 2 / 2: 4e-18 relative), so that the loops over a
+    block's points vectorise (the sine and cosine are the reference's ``_sincos``, written out)."""
+    n, m = p.shape[0], table.shape[1]
+    kx, ky, phase, omega, amp, kk, qq = table[0], table[1], table[2], table[3], table[4], table[5], table[6]
+    two_pi = 2.0 * math.pi
+    r, dr = 1.0, 0.0
+    ramped = ramp_s > 0.0 and t < ramp_s
+    if ramped:  # (build_up)
+        w = math.pi / ramp_s
+        inside = 0.0 < t
+        r = 0.5 * (1.0 - math.cos(w * t)) if inside else 0.0
+        dr = 0.5 * w * math.sin(w * t) if inside else 0.0
+    tk = np.empty(m)
+    for i in range(m):  # the time part of the phases, reduced modulo 2 pi (``_theta``)
+        tk[i] = (phase[i] - omega[i] * t) % two_pi
+    b = max(min(n, _BLOCK), 1)
+    sn, cs = np.empty((m, b)), np.empty((m, b))
+    e, zs, ex, xb, yb = np.empty(b), np.empty(b), np.empty(b), np.empty(b), np.empty(b)
+    bits = np.empty(b, dtype=np.int64)
+    pw = bits.view(np.float64)  # 2^n of the exponentials
+    u = np.empty((6, b))
+    u0, u1, u2, u3, u4, u5 = u[0], u[1], u[2], u[3], u[4], u[5]
+    for j0 in range(0, n, b):
+        nb = min(b, n - j0)
+        for j in range(nb):
+            e[j] = 0.0
+            xb[j], yb[j] = p[j0 + j, 0], p[j0 + j, 1]
+        for i in range(m):  # the phases' sines and cosines (``_sincos``), and the surface
+            a, c, tki, am = kx[i], ky[i], tk[i], amp[i]
+            sni, csi = sn[i], cs[i]
+            for j in range(nb):
+                th = (xb[j] * a + yb[j] * c) + tki
+                x = (th + (-two_pi) * math.floor(th * (0.5 / math.pi) + 0.5)) * 0.125
+                x2 = x * x
+                co = (((((x2 * _C6 + _C5) * x2 + _C4) * x2 + _C3) * x2 + _C2) * x2 + _C1) * x2 + 1.0
+                si = ((((((x2 * _S6 + _S5) * x2 + _S4) * x2 + _S3) * x2 + _S2) * x2 + _S1) * x2 + 1.0) * x
+                co, si = 1.0 - 2.0 * si * si, 2.0 * si * co  # (three angle doublings)
+                co, si = 1.0 - 2.0 * si * si, 2.0 * si * co
+                co, si = 1.0 - 2.0 * si * si, 2.0 * si * co
+                sni[j] = si
+                csi[j] = co
+                e[j] += am * co
+        top = -math.inf
+        for j in range(nb):
+            ej = r * e[j] if ramped else e[j]
+            eta[j0 + j] = ej
+            z = p[j0 + j, 2]
+            if wheeler:
+                zz = z - ej if depth == math.inf else depth * (z - ej) / (depth + ej)
+            else:
+                zz = z
+            zs[j] = min(max(zz, -depth), 0.0)
+            top = max(top, zs[j])
+        if not kinematics:
+            continue
+        u[:, :nb] = 0.0
+        for i in range(m):
+            ki, qi = kk[i], qq[i]
+            if ki * top < -_DEEP:
+                continue
+            for j in range(nb):  # exp(k z'), as 2^n exp(r)
+                kz = max(zs[j] * ki, -350.0)
+                nn = math.floor(kz * _LOG2E + 0.5)
+                rr = (kz - nn * _LN2_HI) - nn * _LN2_LO
+                y = ((((rr * _E13 + _E12) * rr + _E11) * rr + _E10) * rr + _E9) * rr + _E8
+                y = (((((y * rr + _E7) * rr + _E6) * rr + _E5) * rr + _E4) * rr + _E3) * rr + _E2
+                ex[j] = (y * rr + 1.0) * rr + 1.0
+                bits[j] = (np.int64(nn) + 1023) << 52
+            h0, h1, hz, g0, g1, gz = table[7, i], table[8, i], table[9, i], table[10, i], table[11, i], table[12, i]
+            sni, csi = sn[i], cs[i]
+            for j in range(nb):
+                e1 = ex[j] * pw[j]
+                e2 = qi / e1
+                ch, sh = e1 + e2, e1 - e2
+                si, co = sni[j], csi[j]
+                u0[j] += ch * co * h0
+                u1[j] += ch * co * h1
+                u2[j] += sh * si * hz
+                u3[j] += ch * si * g0
+                u4[j] += ch * si * g1
+                u5[j] -= sh * co * gz
+        for j in range(nb):
+            z = p[j0 + j, 2]
+            wet = z <= eta[j0 + j] if wheeler else z <= 0.0
+            for d in range(3):
+                if not wet:
+                    vel[j0 + j, d] = 0.0
+                    acc[j0 + j, d] = 0.0
+                elif ramped:  # d(r u)/dt = r du/dt + r' u
+                    acc[j0 + j, d] = r * u[3 + d, j] + dr * u[d, j]
+                    vel[j0 + j, d] = r * u[d, j]
+                else:
+                    vel[j0 + j, d] = u[d, j]
+                    acc[j0 + j, d] = u[3 + d, j]

@@ -74,7 +74,9 @@ class Ship:
             h, r = math.radians(s.heading_deg), np.array(s.motion.fairlead_m, dtype=float)
             origin = np.array(s.position) - [math.cos(h) * r[0] - math.sin(h) * r[1],
                                              math.sin(h) * r[0] + math.cos(h) * r[1]]
-            ship.motion = ShipMotion(RAOTable.from_csv(s.motion.rao_file), waves.components, h, origin=origin)
+            ship.motion = ShipMotion(RAOTable.from_csv(s.motion.rao_file), waves.components, h, origin=origin,
+                                     outside="short_zero" if s.motion.short_waves == "zero" else "error",
+                                     ramp_s=waves.ramp_s)
             ship.fairlead_body, ship.heading = r, h
         return ship
 

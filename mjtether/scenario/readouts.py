@@ -67,6 +67,14 @@ RECORD_FIELDS = [
     ("max_compression", "N", "the largest push of any element's constraint since the previous sample, over every "
      "time step (>= 0): a cable carries tension only, so a push is the model's error, which the tension columns "
      "(never negative) leave out; lines.npz's linetether_compression has every element's"),
+    ("peak_tension", "N", "the largest tension of any deployed element since the previous sample, over every time "
+     "step (a snap's peak falls between samples); lines.npz's linetether_peak_tension has every element's"),
+    ("snap_count", "", "snap loads so far: slack-to-taut events of any element (mjtether.cable.snap; "
+     "summary.json's snap_loads lists them)"),
+    ("wave_elevation", "m", "the sea surface's height at the ship's position (0 on a flat sea)"),
+    ("fairlead_z", "m", "height of the fairlead (its heave in a sea state: the ship's motion)"),
+    ("heave_compensation", "m", "line paid out by the winch's heave compensator (0 without one): the fairlead's "
+     "heave less this is the residual motion the line sees"),
 ]
 
 
@@ -86,7 +94,8 @@ TETHER_FIELDS = ("ship_tension", "ship_force_x", "ship_force_y", "ship_force_z",
                  "tow_force_y", "tow_force_z", "tow_force_body_x", "tow_force_body_y", "tow_force_body_z",
                  "cable_moment_x", "cable_moment_y", "cable_moment_z", "cable_moment_body_x", "cable_moment_body_y",
                  "cable_moment_body_z", "deployed_length", "payout_rate",
-                 "tether_lowest_z", "length_on_seabed", "slack_elements", *TANGLE_FIELDS, "max_compression")
+                 "tether_lowest_z", "length_on_seabed", "slack_elements", *TANGLE_FIELDS, "max_compression",
+                 "peak_tension", "snap_count", "heave_compensation")
 """The record's columns that describe the tether: a run without one (``tether.attached = false``)
 writes the others only."""
 
@@ -141,6 +150,8 @@ class NoTether:
     def slack_count(self, data) -> int:
         return 0
 
+    snaps = None
+
 
 class Readouts:
     """The named readouts of ``run`` (a ``runner.ScenarioRun``), read from its simulation's
@@ -172,6 +183,8 @@ class Readouts:
         self.last_tangle = None
         """The latest ``tangle()``: what the record and the monitor's events read."""
         self._peak = (-1, np.zeros(0))  # (simulation revision, N): see peak_compression
+        self._peak_tension = (-1, np.zeros(0))  # (simulation revision, N): see peak_tension
+        self._fairlead = m.site("ship/fairlead").id
 
     # ------------------------------------------------------------------ the tether's ends
 
@@ -370,6 +383,26 @@ class Readouts:
         return self._peak[1].copy()
 
     @property
+    def peak_tension(self) -> np.ndarray:
+        """The largest tension of every element allocated since the previous sample (N, >= 0),
+        over every time step (the snap detector's, ``BoundTether.snaps``; the tension now
+        where it has none): read at a new state of the simulation it ends the interval; read
+        again at the same state, the same values."""
+        rev = self._sim.revision
+        if self._peak_tension[0] != rev:
+            det = self._bt.snaps
+            now = self._bt.element_tension(self._sim.data)
+            self._peak_tension = (rev, now if det is None else np.maximum(det.take_interval_max(), now))
+        return self._peak_tension[1].copy()
+
+    @property
+    def snaps(self) -> list[dict]:
+        """The snap loads found so far (``cable.snap.SnapDetector.events``: time_s, element,
+        peak_tension_N, slack_duration_s; elements numbered from the drum's core)."""
+        det = self._bt.snaps
+        return [] if det is None else det.events
+
+    @property
     def slack_elements(self) -> int:
         """Deployed elements carrying no tension."""
         return self._bt.slack_count(self._sim.data)
@@ -394,6 +427,27 @@ class Readouts:
         return float(self._bt.rest_lengths[self._bt.first:][:int(np.argmax(lying))].sum())
 
     # ------------------------------------------------------------------ the water
+
+    @property
+    def fairlead_position(self) -> np.ndarray:
+        """The ship's fairlead (m, world): where the tether leaves the ship, on its motion."""
+        return self._sim.data.site_xpos[self._fairlead].copy()
+
+    @property
+    def wave_elevation(self) -> float:
+        """The sea surface's height (m) at the ship's position now (0 on a flat sea)."""
+        waves = self._run.water.waves
+        if waves is None:
+            return 0.0
+        x, y = self.ship_position[:2]
+        return float(waves.elevation(float(x), float(y), float(self._sim.data.time)))
+
+    @property
+    def heave_compensation(self) -> float:
+        """Line (m) the winch's heave compensator has paid out (0 without one)."""
+        drive = getattr(self._run, "winch_drive", None)
+        c = None if drive is None else drive.compensator
+        return 0.0 if c is None else float(c.length)
 
     def current_at(self, z) -> np.ndarray:
         """Current velocity (m/s, world) at heights ``z`` (m), shape ``z.shape + (3,)``."""
@@ -456,4 +510,6 @@ class Readouts:
                 bt.deployed_length, self._run.winch.current_rate, ship[0], ship[1], *tow, math.degrees(yaw),
                 math.degrees(roll), math.degrees(pitch), speed, float(x[:, 2].min()), on_bottom,
                 bt.slack_count(d), *(R.T @ moment), *self.tangle_record(x),
-                float(self.peak_compression.max(initial=0.0))]
+                float(self.peak_compression.max(initial=0.0)), float(self.peak_tension.max(initial=0.0)),
+                0 if bt.snaps is None else len(bt.snaps.events), self.wave_elevation,
+                float(d.site_xpos[self._fairlead][2]), self.heave_compensation]

@@ -11,6 +11,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from mjtether.cable import snap
 from mjtether.simulation import drive
 
 from . import Scenario
@@ -106,7 +107,8 @@ def run(sc: Scenario, progress=None, keep_nodes: bool = True, video=None, on_sta
     ``simulation.output_interval`` from the start and at the end (a duration that is not a whole
     number of intervals ends with a shorter one). ``history`` has
     ``nodes`` (n, e+1, 3) m, ``tension`` (n, e) N, ``element_length`` (n, e) m and
-    ``compression`` (n, e) N (the largest push since the previous sample) for every one
+    ``compression`` (n, e) N (the largest push since the previous sample) and
+    ``peak_tension`` (n, e) N (the largest tension since then) for every one
     of the e elements allocated (numbered from the drum's core; see ``element_record``), each
     sample (only the first with ``keep_nodes=False``), and ``qpos``, ``mocap_pos`` and ``mocap_quat``
     (``ScenarioRun.state``) at the same samples. At each sample the tangle monitor
@@ -170,6 +172,8 @@ def run(sc: Scenario, progress=None, keep_nodes: bool = True, video=None, on_sta
         info["tangle_events"] = monitor.events
         if monitor.stopped:
             info["stopped"] = monitor.stopped
+    if runner.bt is not None and runner.bt.snaps is not None:
+        info["snap_loads"] = snap.snap_report(runner.bt)
     if surface is not None:
         info["surface_events"] = surface.events
         if surface.stopped:
@@ -178,7 +182,9 @@ def run(sc: Scenario, progress=None, keep_nodes: bool = True, video=None, on_sta
         info["video"] = {"file": str(rec.path), "frames": rec.frames, "fps": rec.s.fps, "camera": rec.s.camera,
                          "tension_scale_N": rec.scale}
     history = {"nodes": np.array([h[0] for h in hist]), "tension": np.array([h[1] for h in hist]),
-               "element_length": np.array([h[2] for h in hist]), "compression": np.array([h[3] for h in hist])}
+               "element_length": np.array([h[2] for h in hist]), "compression": np.array([h[3] for h in hist]),
+               "peak_tension": np.array([h[4] for h in hist])}
     for k, key in enumerate(STATE_FIELDS):
         history[key] = np.array([st[k] for st in states])
     return ScenarioResult(rows, history, info)
+

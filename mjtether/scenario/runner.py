@@ -28,6 +28,7 @@ from mjtether.scenario import Scenario, start
 from mjtether.simulation import Simulation
 
 from .controllers import GaitDrive, Manoeuvre, PathDrive, Ship, VehiclePilot, VesselFollow, WinchDrive  # noqa: F401 - Ship: the run's ship kinematics
+from . import weather
 from .sea import compensator_from
 from .readouts import RECORD_FIELDS, Readouts, roll_pitch  # noqa: F401 - the record's columns
 from .robot_ends import ROBOT_ENDS, manoeuvre_from  # noqa: F401 - the robot ends; where manoeuvre_from was
@@ -150,15 +151,19 @@ class ScenarioRun:
             self.named = Readouts(self)
             self.torso, self.tow_site = self.named.torso, self.named.tow_site
             # the order they act in at each step: the gait or autopilot, then the ship, then the winch
-            winch = WinchDrive(self.winch, compensator_from(sc), self.ship) if self.tethered else None
+            self.winch_drive = winch = WinchDrive(self.winch, compensator_from(sc), self.ship) \
+                if self.tethered else None
             ship = self.ship if self.ship_pilot is None else self.ship_pilot
             self.controllers = [c for c in (*end.controllers, ship, winch) if c is not None]
+            weather.attach(self)  # the wind on a vessel and a Gauss-Markov current, stepped first (none: nothing)
             # (alone, or on an empty drum, a vehicle starts as placed: there are no contacts to load)
             if self.tethered and not empty and not replay:
                 start.preroll(self, settle or drape, until_still=drape,
                               substeps=start.FALLBACK_SUBSTEPS if settle else 1)
             if self.bt is not None:  # the first sample's pushes are those at t = 0, not the pre-roll's
                 self.bt.clear_peak_compression()
+                if not replay:  # snap loads from here, each element slack below 1 % of its tension now
+                    self.bt.start_snaps()
         except BaseException:
             self.sim.close()  # a run that cannot start leaves nothing registered
             raise
@@ -272,11 +277,13 @@ class ScenarioRun:
         """Unstretched tether length (m) lying on the seabed (see ``Readouts.length_on_seabed``)."""
         return self.named.length_on_seabed(x)
 
-    def element_record(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    def element_record(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """(every node (n+1, 3) m, element tension (n,) N, element length (n,) m, each element's
-        largest push since the previous sample (n,) N: ``Readouts.peak_compression``), numbered from the drum's core; nodes on the drum at the fairlead, their elements 0."""
+        largest push since the previous sample (n,) N (``Readouts.peak_compression``), each
+        element's largest tension since the previous sample (n,) N (``Readouts.peak_tension``)),
+        numbered from the drum's core; nodes on the drum at the fairlead, their elements 0."""
         n = self.named
-        return n.element_nodes, n.element_tension, n.element_length, n.peak_compression
+        return n.element_nodes, n.element_tension, n.element_length, n.peak_compression, n.peak_tension
 
     def state(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """The MuJoCo state that places every body (``STATE_FIELDS``): ``qpos`` (nq,), ``mocap_pos``

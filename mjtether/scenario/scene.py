@@ -58,13 +58,25 @@ def water_from(sc: Scenario) -> wm.WaterColumn:
         density = wm.LinearDensity(d.rho_surface, d.rho_ref, d.depth_ref)
     else:
         density = wm.TabulatedDensity(d.depths, d.values)
-    return wm.WaterColumn(depth=sc.water.depth, density=density, current=current_from(sc.water.current, sc.water.depth),
+    current = current_from(sc.water.current, sc.water.depth, stepped=True)
+    return wm.WaterColumn(depth=sc.water.depth, density=density, current=current,
                           gravity=sc.water.gravity, waves=wave_field(sc.waves, sc.water.depth, sc.water.gravity))
 
 
-def current_from(c, depth: float):
+def current_from(c, depth: float, stepped: bool = False):
     """The ``physics.water`` current of a ``[water.current]`` section ``c`` in water ``depth`` m
-    deep (headings from degrees to radians): a scenario's, or a network's."""
+    deep (headings from degrees to radians): a scenario's, or a network's; with noise in
+    ``c.gauss_markov``, the Gauss-Markov current about its speed and heading (``weather``), for
+    a run that steps it (``stepped``: a scenario's; elsewhere it is refused)."""
+    from .weather import gauss_markov_current
+    varying = gauss_markov_current(c)
+    if varying is not None:
+        if not stepped:
+            from .config import ConfigError
+            raise ConfigError("water.current.gauss_markov: a varying current is stepped by a scenario's run only; "
+                              "here the current is steady (give no noise: sigma = heading_sigma_deg = 0)",
+                              "water.current.gauss_markov")
+        return varying
     heading = math.radians(c.heading_deg)
     if c.type == "constant":
         return wm.ConstantCurrent(c.speed, heading)

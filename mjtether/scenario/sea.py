@@ -33,6 +33,10 @@ class Waves(Section):
                                "exponent s (0: long-crested)")
     directions: int = param(9, 1, 101, "", "jonswap/pierson_moskowitz: directions summed with spreading_s > 0")
     heading_deg: float = param(0.0, -360.0, 360.0, "deg", "direction the waves travel to, from +x towards +y")
+    ramp_periods: float = param(1.0, 0.0, 100.0, "", "the sea's build-up: the waves and the ship's motion on them "
+                                "ramp in over this many wave periods (period, or tp) from t = 0 (a half-cosine, as "
+                                "OrcaFlex's build-up stage), so that the line does not start with a jerk; 0: the full "
+                                "sea from the start")
     stretching: str = param("wheeler", doc="kinematics above the mean water line: wheeler (the profile stretched "
                             "to the instantaneous surface) or none (linear theory cut at z = 0)",
                             choices=("wheeler", "none"))
@@ -62,7 +66,8 @@ def wave_field(waves: Waves, depth: float, gravity: float):
         kw = {"gamma": waves.gamma} if waves.type == "jonswap" else {}
         comps = make(waves.hs, waves.tp, heading=heading, depth=depth, g=gravity, seed=waves.seed,
                      n_components=waves.components, **kw, **spread)
-    return wv.WaveField(comps, depth, gravity, stretching=waves.stretching)
+    ramp = waves.ramp_periods * (waves.period if waves.type == "regular" else waves.tp)
+    return wv.WaveField(comps, depth, gravity, stretching=waves.stretching, ramp_s=ramp)
 
 
 @dataclass(frozen=True)
@@ -76,6 +81,9 @@ class ShipMotion(Section):
     fairlead_m: tuple = param((0.0, 0.0, 0.0), -500.0, 500.0, "m", "rao: the fairlead in ship axes (x forward, "
                               "y to port, z up) from the RAOs' reference point: the lever arm of the ship's roll, "
                               "pitch and yaw (the fairlead itself is at ship.position, ship.fairlead_z)", kind="vec3")
+    short_waves: str = param("error", doc="rao: a wave component shorter than the table's shortest period is "
+                             "refused (error) or moves the ship not at all (zero: a ship does not follow waves much "
+                             "shorter than itself; an irregular sea's tail reaches 0.2 Tp)", choices=("error", "zero"))
 
     def _check(self):
         if self.type != "rao":
@@ -113,3 +121,16 @@ def compensator_from(sc):
     if hc.type == "active":
         return h.ActiveHeaveCompensation(hc.lag_s, sc.winch.max_rate, sc.winch.max_accel, hc.gain)
     return h.PassiveHeaveCompensation(hc.stiffness, hc.damping, stroke_m=hc.stroke)
+
+
+def check_scenario(sc, bad) -> None:
+    """The sea's checks across sections: RAOs answer a sea (``ship.motion.type = "rao"`` needs
+    ``[waves]``), heave compensation needs a tether, and the vessel model (``ship.vessel``) moves
+    on its own hydrodynamics, not on RAOs. ``bad(key, value, why)`` raises."""
+    if sc.ship.motion.type == "rao" and sc.waves.flat:
+        bad("ship.motion.type", '"rao"', "answers a sea: give [waves] (waves.type is \"none\")")
+    if sc.ship.motion.type == "rao" and sc.ship.vessel:
+        bad("ship.motion.type", '"rao"', "is for a prescribed ship: a vessel (ship.vessel) moves in the waves on its "
+            "own hydrodynamics")
+    if sc.winch.heave_compensation.type != "none" and not sc.tether.attached:
+        bad("winch.heave_compensation.type", repr(sc.winch.heave_compensation.type), "needs a tether")

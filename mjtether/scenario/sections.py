@@ -28,7 +28,9 @@ from mjtether.cable.winch import Winch as _Winch
 from mjtether.walker import Tripod
 
 from .config import INF, RENAMED, ConfigError, Section, param, section, tables
+from . import sea
 from .sea import HeaveCompensation, ShipMotion, Waves
+from .weather import CurrentGaussMarkov, Wind
 
 ScenarioError = ConfigError
 
@@ -123,6 +125,7 @@ class Current(Section):
     depths: tuple | None = param(None, 0.0, 12000.0, "m", "table: depths, strictly increasing", kind="list")
     speeds: tuple | None = param(None, 0.0, 10.0, "m/s", "table: speeds", kind="list")
     headings_deg: tuple | None = param(None, -360.0, 360.0, "deg", "table: headings (default all 0)", kind="list")
+    gauss_markov: CurrentGaussMarkov = section(CurrentGaussMarkov)
 
     def _check(self):
         if self.type == "table":
@@ -592,6 +595,7 @@ class Scenario(Section):
     robot: Robot = section(Robot)
     tangle: Tangle = section(Tangle)
     waves: Waves = section(Waves)
+    wind: Wind = section(Wind)
 
     def __post_init__(self):
         super().__post_init__()
@@ -630,6 +634,7 @@ class Scenario(Section):
             bad("ship.position", list(self.ship.position), f"the seabed there is at z = "
                 f"{w.seabed_z(*self.ship.position):.2f} m, above the surface or within 1 m of it")
         self._check_reach(bad)
+        sea.check_scenario(self, bad)
         if not self.tether.attached and r.type != "vehicle":
             bad("tether.attached", "false", f"only a vehicle can run without a tether (robot.type = {r.type!r})")
         wi = self.winch

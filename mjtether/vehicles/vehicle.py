@@ -28,6 +28,23 @@ forces and hull loads, and a fin, its propeller or a thruster in the air gives n
 positively buoyant vehicle floats, it does not fly.
 (The added mass in MuJoCo's mass matrix stays whole.)
 
+Waves (``WaterColumn.waves``): the sea is evaluated once per step at the centre of buoyancy
+(the vehicle taken small against the wave length; for a surface vessel, at the centre of
+buoyancy's x, y, half its mean draft V / A_wp under the instantaneous surface there, so that the
+point stays in the water as the vessel rides the waves). The particle velocity there joins the
+current in nu_c (drag, lift, fins, propeller, the Munk moment: everything on nu_r); the surface is
+the instantaneous one (the wet fraction, a fin, propeller or thruster in the air, and a surface
+vessel's hydrostatics all take the origin's height over the elevation there, so a floating vessel
+heaves on its own hydrostatics); and Morison's inertia term acts on the particles' local
+acceleration a (body axes): the Froude-Krylov force rho V a at the centre of buoyancy plus the
+added mass's M_A[:, :3] a (the rest of Fossen's M_A nu_r'; C_m = 1 + C_a), times the wet
+fraction. A surface vessel's waterline takes the elevation at one point, not the wave's slope:
+the waves do not roll or pitch it through its hydrostatics (only through the FK moment about its
+origin). The compiled kernel takes the waves as a shift of nu (only nu - nu_c and the angular
+rates enter it) and of the origin's height (only its height over the surface enters the wet
+fraction and the hydrostatics); the native callback knows no waves (a run with waves uses the
+Python callback). Without waves nothing changes.
+
 Units SI; world z up; body x forward, y left, z up.
 """
 
@@ -321,8 +338,8 @@ class BoundVehicle:
     def native_table(self):
         """This vehicle's arrays for the native callback (``native``, slots ``V_*``), or None where
         its wrench needs Python (the NumPy kernels, a water profile or hull class the compiled
-        kernel does not know)."""
-        if self._codes is None:
+        kernel does not know, or the waves)."""
+        if self._codes is None or self.water.waves is not None:
             return None
         dkind, dp, ckind, cp = self._codes
         h = self.hydro
@@ -348,6 +365,28 @@ class BoundVehicle:
         return float(compiled.wet_fraction(data.xmat[self.id].reshape(3, 3), float(data.xpos[self.id][2]), self._r_b,
                                            self._size))
 
+    def sea(self, data, R: np.ndarray) -> tuple[float, np.ndarray, np.ndarray]:
+        """The waves at the centre of buoyancy now: (the surface's elevation, m; the particle
+        velocity, m/s, and local acceleration, m/s^2, world); (0.0, None, None) without waves."""
+        waves = self.water.waves
+        if waves is None:
+            return 0.0, None, None
+        p = data.xpos[self.id] + R @ self._r_b
+        t = float(data.time)
+        if self.hydro.surface is not None:  # (half its mean draft under the surface, see the module docstring)
+            eta = float(waves.elevation(p[0], p[1], t))
+            p = np.array([p[0], p[1], eta - 0.5 * self.hydro.volume / self.hydro.surface.waterplane_area])
+        eta, u, a = waves.state(p[None, :], t)
+        return float(eta[0]), u[0], a[0]
+
+    def wave_inertia(self, R: np.ndarray, a_w: np.ndarray, rho: float, wet: float) -> np.ndarray:
+        """Morison's inertia wrench (body frame, N and N m about the origin) of the fluid's local
+        acceleration ``a_w`` (m/s^2, world) in water of density ``rho`` (kg/m^3), times the wet
+        fraction ``wet``: rho V a at the centre of buoyancy plus M_A[:, :3] a."""
+        a = R.T @ a_w
+        fk = rho * self.hydro.volume * a
+        return wet * (np.r_[fk, np.cross(self._r_b, fk)] + self.hydro.added_mass[:, :3] @ a)
+
     def velocity(self, data) -> tuple[np.ndarray, np.ndarray]:
         """(nu (6,), body frame: linear velocity of the origin and angular velocity; R body to
         world)."""
@@ -360,8 +399,10 @@ class BoundVehicle:
             return self._compiled_wrench(data)
         nu, R = self.velocity(data)
         z = np.array([min(float(data.xpos[self.id][2]), 0.0)])
+        eta, u_w, a_w = self.sea(data, R)
+        u = self.water.velocity(z)[0]
         nu_c = np.zeros(6)
-        nu_c[:3] = R.T @ self.water.velocity(z)[0]
+        nu_c[:3] = R.T @ (u if a_w is None else u + u_w)
         nu_r = nu - nu_c
         h = self.hydro
         MA = h.added_mass
@@ -374,7 +415,7 @@ class BoundVehicle:
         tau = -(CA @ nu_r) - damping_force(nu_r, DL, h.quadratic_damping)
         tau[:3] += self._M_lin @ cross(nu[3:], nu_r[:3])
         rho = float(self.water.rho(z)[0])
-        z0 = float(data.xpos[self.id][2])
+        z0 = float(data.xpos[self.id][2]) - eta  # (the origin's height over the surface)
         wet = 1.0 if h.surface is not None else compiled.wet_fraction(R, z0, self._r_b, self._size)
         tau *= wet
         dry = (lambda p: h.surface is None and z0 + float(R[2] @ np.asarray(p, dtype=float)) > 0.0)  # noqa: E731
@@ -394,13 +435,15 @@ class BoundVehicle:
                 tau -= np.r_[f, np.cross(row[:3], f)]
         if h.surface is not None:  # floating: hydrostatics about the design waterline
             sf = h.surface
-            tau += surface_restoring(R, float(data.xpos[self.id][2]), rho, self.water.gravity, h.volume,
+            tau += surface_restoring(R, z0, rho, self.water.gravity, h.volume,
                                      sf.waterplane_area, sf.gm_t, sf.gm_l, sf.max_volume, self._r_g,
                                      sf.centre_of_flotation)
             tau += sf.crossflow(nu_r, rho)
         else:
             B = rho * self.water.gravity * h.volume * wet
             tau -= restoring_force(R, 0.0, B, np.zeros(3), self._r_b)  # the buoyancy (MuJoCo weighs it)
+        if a_w is not None:
+            tau += self.wave_inertia(R, a_w, rho, wet)
         if self._has_explicit:  # the rest of M_A nu', from the last step's acceleration
             a = np.concatenate([R.T @ data.qacc[self._v] - cross(nu[3:], nu[:3]), data.qacc[self._w]])
             tau -= self._explicit @ a
@@ -415,11 +458,20 @@ class BoundVehicle:
         keep, hull, fins, prop, surface = self._arrays
         tau = self._tau
         z = float(data.xpos[self.id][2])
-        compiled.vehicle_wrench(nu, R, min(z, 0.0), *self._codes, self.water.gravity, h.added_mass, keep,
+        eta, u_w, a_w = self.sea(data, R)
+        shifted = nu
+        if a_w is not None:  # nu - nu_w: the kernel sees nu_r = nu - nu_c - nu_w (see the module docstring)
+            shifted = nu.copy()
+            shifted[:3] -= R.T @ u_w
+        compiled.vehicle_wrench(shifted, R, min(z, 0.0), *self._codes, self.water.gravity, h.added_mass, keep,
                                 h.linear_damping, h.linear_damping_fade, h.quadratic_damping, self._M_lin, h.volume,
-                                self._r_b, hull, fins, self._deltas, prop, rpm, surface, z, self._size, self._thr,
+                                self._r_b, hull, fins, self._deltas, prop, rpm, surface, z - eta, self._size, self._thr,
                                 data.act[self._thr_act] if len(self._thr_act) else np.zeros(0), tau)
         tau = tau.copy()
+        if a_w is not None:
+            rho = float(self.water.rho(np.array([min(z, 0.0)]))[0])
+            wet = 1.0 if h.surface is not None else compiled.wet_fraction(R, z - eta, self._r_b, self._size)
+            tau += self.wave_inertia(R, a_w, rho, wet)
         if self._has_explicit:  # the rest of M_A nu', from the last step's acceleration
             a = np.concatenate([R.T @ data.qacc[self._v] - cross(nu[3:], nu[:3]), data.qacc[self._w]])
             tau -= self._explicit @ a

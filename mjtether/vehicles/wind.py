@@ -1,5 +1,5 @@
-"""The wind load on a surface vessel as Hong et al. (2020) take it from Fossen (pure NumPy;
-issue 43, not yet wired into the runs).
+"""The wind load on a surface vessel as Hong et al. (2020) take it from Fossen (pure NumPy; a
+run applies it to its surface vessels from ``[wind]``: ``scenario.weather``).
 
 Hong, Park, Lee, Park and Kim (2020, J. Mar. Sci. Eng. 8, 485), Sec. 2.4.2, Eqs. 7-9:
 
@@ -78,6 +78,16 @@ HONG2020_USV = Windage(frontal_area=1.82 * 0.5, lateral_area=3.0 * 0.5, length=3
 height of 0.5 m above the waterline over its length and breadth (A_T = 1.82 x 0.5 = 0.91 m^2,
 A_L = 3 x 0.5 = 1.5 m^2, L = 3 m), and the middle of each of Eq. 9's ranges (c_x = 0.7,
 c_y = 0.825, c_n = 0.125)."""
+
+
+OTTER = Windage(frontal_area=1.08 * 0.5 / 1.5, lateral_area=2.0 * 0.5 / 1.5, length=2.0)
+"""Fossen's Otter USV (2 m long, 1.08 m beam; ``assets/vehicles/otter.toml``), a reading: the
+``HONG2020_USV`` reading's 0.5 m mean height above the waterline scaled down by the 1.5 that
+makes the Otter of the Hong USV file (A_T = 0.36 m^2, A_L = 0.667 m^2, L = 2 m), and the middle
+of Eq. 9's ranges. Fossen's otter.py carries no wind load."""
+
+WINDAGE = {"hong2020_usv": HONG2020_USV, "otter": OTTER}
+"""The shipped surface vessels' windage, by their vehicle names (``vehicles.files.shipped()``)."""
 
 
 def _planar(name: str, value) -> np.ndarray:

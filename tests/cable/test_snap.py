@@ -4,6 +4,8 @@ The histories are sampled at dt = 1/64 s, so that every sample time (k dt) and e
 of two is exact in binary: the expected times and durations below come from the sample indices
 the histories were built with, and are compared to 1e-12 s (round-off only)."""
 
+import math
+
 import numpy as np
 import pytest
 
@@ -144,3 +146,27 @@ def test_dnv_slack_criterion():
     assert not r["slack"] and r["ratio"] == pytest.approx(0.1)
     with pytest.raises(ValueError, match="static_submerged_weight_N must be > 0"):
         dnv_slack_check(10.0, 0.0)
+
+
+@pytest.mark.skipif(__import__("mjtether.physics.compiled", fromlist=["numba"]).numba is None,
+                    reason="the compiled twin needs numba")
+def test_the_compiled_twin_agrees_with_the_numpy_reference():
+    """``update_from_constraints`` by the compiled twin (``kernels.snap_update``) against the
+    NumPy ``update`` on 400 steps of a 12-element line whose elements go slack and taut at
+    random, switch their equalities off (slack: no row) and are reeled onto the drum and paid
+    out again (``first`` from 0 to 4 and back): the same events, states and extremes, exactly
+    (the same comparisons in the same order)."""
+    rng = np.random.default_rng(7)
+    n = 12
+    thr = slack_threshold(rng.uniform(50.0, 500.0, n))
+    a, b = SnapDetector(n, thr, window_s=0.5, compiled=True), SnapDetector(n, thr, window_s=0.5, compiled=False)
+    assert a.compiled and not b.compiled
+    for k in range(400):
+        tension = np.where(rng.uniform(size=n) < 0.2, rng.uniform(0.0, 3.0, n), rng.uniform(0.0, 900.0, n))
+        active = rng.uniform(size=n) > 0.1
+        first = int(4 * abs(math.sin(k / 60)))
+        for det in (a, b):
+            det.update_from_constraints((k + 1) * DT, active, -tension[active], first)
+    assert a.events == b.events and len(a.events) > 50
+    for key in ("slack_now", "min_tension_N", "max_tension_N", "interval_max_N", "_peak", "_t_taut"):
+        np.testing.assert_array_equal(getattr(a, key), getattr(b, key), err_msg=key)

@@ -179,6 +179,34 @@ def test_velocity_and_acceleration_are_the_offsets_derivatives(tmp_path):
                                rtol=0, atol=1e-6)
 
 
+@pytest.mark.parametrize("ramp_s", [0.0, 12.0])
+def test_one_time_and_many_times_give_the_same_motion(tmp_path, ramp_s):
+    """The motion at one time (the run's path: one exponential for the three derivatives, kept
+    for the next call at that time) equals the vectorised one at the same times, with and
+    without a build-up (12 s: half the times inside it), to 1e-12 of the largest value; and the
+    ramped velocity and acceleration are still the offset's derivatives (central differences,
+    as above)."""
+    rao = lambda T, h: {d: (0.3 + 0.1 * i + 0.01 * T, 20.0 * i + h / 10) for i, d in enumerate(DOFS)}  # noqa: E731
+    table = RAOTable.from_csv(write_table(tmp_path / "six.csv", [2.0, 8.0, 30.0], ALL_HEADINGS, rao))
+    ship = ShipMotion(table, waves(6, seed=3), heading=-0.4, origin=(1.0, 2.0), ramp_s=ramp_s)
+    t, r = np.linspace(0.0, 24.0, 49), [25.0, -5.0, 4.0]
+    many = ship.point(r, t)
+    for k, tk in enumerate(t):
+        one = ship.point(r, float(tk))
+        again = ship.point(r, float(tk))
+        for a, b, c in zip(one, many, again):
+            np.testing.assert_allclose(a, b[k], rtol=0, atol=1e-12 * np.abs(b).max())
+            np.testing.assert_array_equal(a, c)
+        np.testing.assert_allclose(ship.pose(float(tk)), ship.pose(t)[k], rtol=0, atol=1e-12)
+    dt = 1e-3
+    before, after = ship.point(r, t - dt), ship.point(r, t + dt)
+    inside = (t > dt) & (t < ramp_s - dt) if ramp_s else t > dt
+    np.testing.assert_allclose(many.velocity[inside], ((after.offset - before.offset) / (2 * dt))[inside],
+                               rtol=0, atol=1e-6)
+    np.testing.assert_allclose(many.acceleration[inside],
+                               ((after.offset - 2 * many.offset + before.offset) / dt ** 2)[inside], rtol=0, atol=1e-6)
+
+
 def test_prescribed_heave():
     """z = A cos(2 pi t / T - phase): with phase 90 deg, 2 sin(2 pi t / 8); every point of the
     ship heaves alike; its velocity and acceleration are the closed-form derivatives.
