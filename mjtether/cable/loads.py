@@ -250,11 +250,12 @@ class CableLoads:
     def native_table(self):
         """This tether's arrays for the native callback (``native``, slots ``T_*``), or None where
         its loads need Python (the NumPy kernels, a water profile the compiled kernels do not
-        know, or friction on a height field). The arrays are the drum's own, updated in place as the cable pays out."""
+        know, or friction on a height field). The arrays are the drum's own, updated in place as the cable pays out;
+        with waves, the sea's components (``WaveField``'s table) and the added mass their inertia load takes."""
         L, dr, contact = self.layout, self.drum, self.contact
-        c = L.fast
-        if c is None or c["water"] is None or contact.grid is not None or L.water.waves is not None:
-            return None  # (a height field's friction, and the waves: the Python callback)
+        c, waves = L.fast, L.water.waves
+        if c is None or c["water"] is None or contact.grid is not None:
+            return None  # (a height field's friction: the Python callback)
         dkind, dp, ckind, cp = c["water"]
         mk, n = L.line, L.n
         empty = np.zeros(0)
@@ -270,9 +271,12 @@ class CableLoads:
         wrap = -1 if L.normal_prm is None else int(L.model.tendon_adr[L.normal_ten.start])
         points = mk.has_point_loads
         ints = np.array([n, L.vertadr, L.dof0, mode, contact.stick.start if mode else 0,
-                         c["bend"] is not None, dkind, ckind, points, wrap], dtype=np.int64)
+                         c["bend"] is not None, dkind, ckind, points, wrap, waves is not None], dtype=np.int64)
         node = lambda a: np.ascontiguousarray(a, dtype=float)  # noqa: E731
+        sea = [empty] * 5 if waves is None else [
+            waves._table.ravel(), np.array([waves.depth, waves.ramp_s, waves.stretching == "wheeler"], dtype=float),
+            node(self._added[0]), node(self._added[1]), node(mk.node_added_volume) if points else empty]
         return [ints, real, dr.native_state, dr.rest, dr.inertia, c["diameter"], c["cd_normal"],
                 c["cd_tangential"], c["area"], c["cd_area_float"], empty if c["bend"] is None else c["bend"], dp, cp,
                 node(getattr(contact, "node_wet", empty)) if mode == 2 else empty,
-                node(mk.node_volume) if points else empty, node(mk.node_cd_area) if points else empty]
+                node(mk.node_volume) if points else empty, node(mk.node_cd_area) if points else empty, *sea]

@@ -418,6 +418,44 @@ def rigid_body_loads(R, p_cob, v_cob, omega, volume, height, drag_cd, drag_area,
     force[2] += rho * gravity * volume * frac
 
 
+@jit
+def rigid_body_wave_loads(R, p_cob, v_cob, omega, volume, height, drag_cd, drag_area, angular_drag, free, ma, dkind,
+                          dp, ckind, cp, gravity, eta, uw, aw, force, torque):
+    """``rigidbody.BoundBodyHydro.wave_loads`` into ``force`` (3,), N, at the centre of buoyancy and
+    ``torque`` (3,), N m, world frame: the sea there given as the surface ``eta`` (m) over it, the
+    particle velocity ``uw`` (m/s) and local acceleration ``aw`` (m/s^2); the added mass the model
+    carries from the body's ``ma`` (3,), kg, as ``BoundBodyHydro.added_mass_world`` (``free``: a free joint's)."""
+    added = np.zeros((3, 3))
+    for i in range(3):
+        if free:
+            added[i, i] = 0.5 * (ma[0] + ma[1]) if i < 2 else ma[2]
+        else:  # R diag(ma) R^T
+            for j in range(3):
+                added[i, j] = R[i, 0] * ma[0] * R[j, 0] + R[i, 1] * ma[1] * R[j, 1] + R[i, 2] * ma[2] * R[j, 2]
+    depth = max(-min(p_cob[2], 0.0), 0.0)
+    rise = p_cob[2] - eta  # the centre of buoyancy's height over the surface (m)
+    if height > 0:
+        frac = min(max(0.5 - rise / height, 0.0), 1.0)
+    else:
+        frac = 1.0 if rise <= 0 else 0.0
+    rho = _density(dkind, dp, depth)
+    u = np.empty(3)
+    u[0], u[1] = _current(ckind, cp, depth)
+    u[2] = 0.0
+    fb, tb = np.empty(3), np.empty(3)
+    for k in range(3):  # body axes: R^T (u + uw - v) and R^T omega
+        vk = ((u[0] + uw[0]) - v_cob[0]) * R[0, k] + ((u[1] + uw[1]) - v_cob[1]) * R[1, k] + (
+            (u[2] + uw[2]) - v_cob[2]) * R[2, k]
+        wk = omega[0] * R[0, k] + omega[1] * R[1, k] + omega[2] * R[2, k]
+        fb[k] = (0.5 * rho * frac) * drag_cd[k] * drag_area[k] * abs(vk) * vk
+        tb[k] = -frac * angular_drag[k] * abs(wk) * wk
+    for j in range(3):
+        inertia = rho * volume * aw[j] + (added[j, 0] * aw[0] + added[j, 1] * aw[1] + added[j, 2] * aw[2])
+        force[j] = R[j, 0] * fb[0] + R[j, 1] * fb[1] + R[j, 2] * fb[2] + frac * inertia
+        torque[j] = R[j, 0] * tb[0] + R[j, 1] * tb[1] + R[j, 2] * tb[2]
+    force[2] += rho * gravity * volume * frac
+
+
 # --------------------------------------------------------------------------- vehicles
 
 

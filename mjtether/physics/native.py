@@ -22,7 +22,8 @@ the installed MuJoCo. Rigid bodies use MuJoCo's own ``mj_objectVelocity`` and ``
 
 **The loads** are ``compiled``'s kernels, the functions the Python providers call with the
 compiled kernels; ``tests/physics/test_native.py`` checks them against the NumPy reference kernels
-(1e-12) and a rollout against ``Simulation.step`` (1e-10).
+(1e-12) and a rollout against ``Simulation.step`` (1e-10). In waves, tethers and rigid bodies evaluate the
+sea (``waves.state_kernel``) at the ``mjData``'s time where the Python path does (``test_native_waves.py``).
 
 **Writes to the model.** The normal added mass (``added_mass="normal"``) and a vehicle's
 added mass turn tendons in ``model.wrap_prm`` at every step, from the state of the ``mjData``
@@ -46,6 +47,8 @@ import mujoco
 import numpy as np
 
 from mjtether.physics import actuation, compiled, jitcache
+from mjtether.physics.hydro import GAUSS_POINTS
+from mjtether.physics.waves import state_kernel
 
 numba = compiled.numba
 if numba is not None:
@@ -63,8 +66,8 @@ SLOTS = 32
 _DATA_FIELDS = ("qvel", "qacc", "qfrc_passive", "flexvert_xpos", "userdata", "xpos", "xmat", "act", "ctrl", "act_dot")
 _MODEL_FIELDS = ("wrap_prm", "actuator_dynprm", "actuator_actadr", "actuator_actnum")
 (QVEL, QACC, QFRC, FLEXVERT, USERDATA, XPOS, XMAT, ACT, CTRL, ACT_DOT, WRAP_PRM, DYNPRM, ACTADR, ACTNUM,
- TIMESTEP) = range(15)
-# (TIMESTEP: the word of mjModel's opt.timestep itself, a number, not a pointer)
+ TIMESTEP, TIME) = range(16)
+# (TIMESTEP, TIME: the words of mjModel's opt.timestep and mjData's time themselves, numbers, not pointers)
 
 
 def available() -> bool:
@@ -125,22 +128,27 @@ def _offsets() -> np.ndarray:
             warnings.simplefilter("ignore")
             m = spec.compile()
         d = mujoco.MjData(m)
-        m.opt.timestep = 0.00123456789 * n  # a value to find
-        out.append(_scan(d, _DATA_FIELDS) + _scan(m, _MODEL_FIELDS) + [_find_double(m, m.opt.timestep)])
+        m.opt.timestep = 0.00123456789 * n  # values to find
+        d.time = 1234.0987654321 * n
+        out.append(_scan(d, _DATA_FIELDS) + _scan(m, _MODEL_FIELDS) + [_find_double(m, m.opt.timestep),
+                                                                        _find_double(d, d.time, 1 << 20)])
     if out[0] != out[1]:
         raise RuntimeError("mjtether.physics.native: MuJoCo's struct layout could not be read consistently")
     return np.array(out[0], dtype=np.int64)
 
 
-def _find_double(obj, value: float) -> int:
-    """Offset (in 8-byte words) of the float64 ``value`` in the first 4 KiB of the C struct
-    behind ``obj``: where an embedded number (``opt.timestep``) lives. Exactly one match."""
-    words = np.frombuffer(ctypes.string_at(obj._address, 4096), dtype=np.float64)
-    hits = np.flatnonzero(words == value)
-    if len(hits) != 1:
-        raise RuntimeError(f"mjtether.physics.native: {type(obj).__name__}'s time step was not found; this MuJoCo is not "
-                           "supported by the native callback")
-    return int(hits[0])
+def _find_double(obj, value: float, most: int = 4096) -> int:
+    """Offset (in 8-byte words) of the float64 ``value`` in the C struct behind ``obj``: where an
+    embedded number (``opt.timestep``, mjData's ``time``) lives. Read 4 KiB at a time, up to the
+    first 4 KiB that holds it (and no further than ``most`` bytes); exactly one match there."""
+    for start in range(0, most, 4096):
+        hits = np.flatnonzero(np.frombuffer(ctypes.string_at(obj._address + start, 4096), dtype=np.float64) == value)
+        if len(hits) == 1:
+            return start // 8 + int(hits[0])
+        if len(hits) > 1:
+            break
+    raise RuntimeError(f"mjtether.physics.native: {type(obj).__name__}'s time (step) was not found; this MuJoCo is not "
+                       "supported by the native callback")
 
 
 def _mujoco_library() -> str:
@@ -210,13 +218,26 @@ def _ints(table, slot):
 
 # A tether's table (cable.loads.CableLoads.native_table): its arrays by slot
 T_INT, T_REAL, T_STATE, T_REST, T_INERTIA, T_DIAMETER, T_CDN, T_CDT, T_AREA, T_CDAF, T_BEND, T_DP, T_CP, \
-    T_NODE_WET, T_NODE_VOLUME, T_NODE_CDA = range(16)
+    T_NODE_WET, T_NODE_VOLUME, T_NODE_CDA, T_WAVES, T_WAVE_REAL, T_ADDED, T_AXIAL, T_NODE_ADDED = range(21)
 # T_INT: n, flex vertex address, first dof, seabed mode (0 none, 1 uniform weight, 2 per node,
 # 3 buoyant: none), stick-point userdata address, bending (0/1), density kind, current kind,
-# point loads (0/1), normal added-mass wrap address (-1: isotropic)
+# point loads (0/1), normal added-mass wrap address (-1: isotropic), waves (0/1)
 # T_REAL: gravity, stick stiffness (times dt^2) and damping (times dt) per kg, weight per metre on the seabed, mu,
 # radius, contact tolerance, seabed point (3), seabed normal (3)
 # T_STATE: first deployed node, its share of the drum element, payout rate (m/s; 0 without drum)
+# T_WAVES: the sea's (13, M) table (``WaveField``'s, for ``waves.state_kernel``), flat; T_WAVE_REAL:
+# depth, ramp (s), Wheeler stretching (0/1); T_ADDED, T_AXIAL: each element's added-mass area per metre
+# normal to it and along it (``loads._wave_added_mass``); T_NODE_ADDED: each node's added volume
+_GP0, _GP1 = GAUSS_POINTS
+
+
+@_jit
+def _sea(table, slot, dp, offs, points, eta, vel, acc):
+    """``WaveField.state`` at ``points`` (N, 3), m, at the ``mjData``'s time into ``eta``, ``vel``, ``acc``:
+    the table's waves at ``slot`` (``T_WAVES`` or ``B_WAVES``), then their depth, ramp and stretching."""
+    W, wp = _vec(table, slot), _vec(table, slot + 1)
+    t = numba.carray(_f64(dp), (offs[TIME] + 1,))[offs[TIME]]
+    state_kernel(points, t, W.reshape((13, W.shape[0] // 13)), wp[0], wp[2] != 0.0, wp[1], eta, vel, acc, True)
 
 
 @_jit
@@ -241,15 +262,31 @@ def _tether(mp, dp, table, offs):
     rho, u, f = np.empty(2 * m), np.empty((2 * m, 3)), np.empty((m + 1, 3))
     dp_, cp_ = _vec(table, T_DP), _vec(table, T_CP)
     compiled.element_water(x, I[6], dp_, I[7], cp_, rho, u)
-    gravity = P[0]
-    compiled.tether_loads(x, v, _vec(table, T_REST)[k:], _vec(table, T_DIAMETER)[k:], _vec(table, T_CDN)[k:],
-                          _vec(table, T_CDT)[k:], _vec(table, T_AREA)[k:], _vec(table, T_CDAF)[k:], rho, u, gravity,
-                          S[1], f, np.zeros(m))  # (no waves: a tether with waves takes the Python path)
+    gravity, waves, surface, wa = P[0], I[10] != 0, np.zeros(m), np.empty((2 * m, 3))
+    if waves:  # (``CableLoads.sea``: element i's two Gauss points at 2i, 2i + 1)
+        gp, eta, wu = np.empty((2 * m, 3)), np.empty(2 * m), np.empty((2 * m, 3))
+        for i in range(m):
+            for j in range(3):
+                gp[2 * i, j] = x[i, j] + _GP0 * (x[i + 1, j] - x[i, j])
+                gp[2 * i + 1, j] = x[i, j] + _GP1 * (x[i + 1, j] - x[i, j])
+        _sea(table, T_WAVES, dp, offs, gp, eta, wu, wa)
+        for i in range(m):
+            surface[i] = 0.5 * (eta[2 * i] + eta[2 * i + 1])
+        u += wu
+    rest, area, diameter = _vec(table, T_REST)[k:], _vec(table, T_AREA)[k:], _vec(table, T_DIAMETER)[k:]
+    compiled.tether_loads(x, v, rest, diameter, _vec(table, T_CDN)[k:], _vec(table, T_CDT)[k:], area,
+                          _vec(table, T_CDAF)[k:], rho, u, gravity, S[1], f, surface)
+    if waves:
+        compiled.add_wave_inertia(x, rest, area, diameter, surface, rho, wa, _vec(table, T_ADDED)[k:],
+                                  _vec(table, T_AXIAL)[k:], f)
     if I[5]:
         compiled.add_bending_forces(x, _vec(table, T_BEND)[k:], f)
     if I[8]:
-        _point_loads(x, v, _vec(table, T_NODE_VOLUME)[k:], _vec(table, T_NODE_CDA)[k:], I[6], dp_, I[7], cp_,
-                     gravity, f)
+        eta, wu, wa = np.zeros(m + 1), np.zeros((m + 1, 3)), np.zeros((m + 1, 3))
+        if waves:  # (``CableLoads._point_loads``: the sea at the nodes)
+            _sea(table, T_WAVES, dp, offs, np.ascontiguousarray(x), eta, wu, wa)
+        _point_loads(x, v, _vec(table, T_NODE_VOLUME)[k:], _vec(table, T_NODE_ADDED)[k:] if waves else eta,
+                     _vec(table, T_NODE_CDA)[k:], I[6], dp_, I[7], cp_, gravity, eta, wu, wa, f)
     mode = I[3]
     if mode:
         ud = numba.carray(_f64(_field(dp, offs, USERDATA)), (I[4] + 3 * (n + 1),))
@@ -289,9 +326,10 @@ def _tether(mp, dp, table, offs):
 
 
 @_jit
-def _point_loads(x, v, volume, cda, dkind, dp, ckind, cp, gravity, f):
-    """``cable.loads.CableLoads._point_loads``: each node's point load's buoyancy under water and its drag
-    1/2 rho CdA |u - v| (u - v), added to ``f`` (N)."""
+def _point_loads(x, v, volume, added, cda, dkind, dp, ckind, cp, gravity, eta, wu, wa, f):
+    """``cable.loads.CableLoads._point_loads``: each node's point load's buoyancy under the surface
+    ``eta`` (m, at each node) and its drag 1/2 rho CdA |u - v| (u - v), with the waves' particle
+    velocity ``wu`` in u and their inertia load rho (V + V_a) ``wa`` (zeros without waves), added to ``f`` (N)."""
     any_cda = False
     for i in range(cda.shape[0]):
         any_cda = any_cda or cda[i] > 0
@@ -299,13 +337,16 @@ def _point_loads(x, v, volume, cda, dkind, dp, ckind, cp, gravity, f):
     rho, u = np.empty(2), np.empty((2, 3))
     for i in range(x.shape[0]):
         z = min(x[i, 2], 0.0)
-        wet = 1.0 if x[i, 2] <= 0.0 else 0.0
+        wet = 1.0 if x[i, 2] <= eta[i] else 0.0
         one[0, 2] = one[1, 2] = z  # a zero-length element at the node: its water
         one[0, 0] = one[1, 0] = one[0, 1] = one[1, 1] = 0.0
         compiled.element_water(one, dkind, dp, ckind, cp, rho, u)
+        s = rho[0] * wet * (volume[i] + added[i])
+        for j in range(3):
+            f[i, j] += s * wa[i, j]
         f[i, 2] += rho[0] * volume[i] * gravity * wet
         if any_cda:
-            r0, r1, r2 = u[0, 0] - v[i, 0], u[0, 1] - v[i, 1], u[0, 2] - v[i, 2]
+            r0, r1, r2 = (u[0, 0] + wu[i, 0]) - v[i, 0], (u[0, 1] + wu[i, 1]) - v[i, 1], (u[0, 2] + wu[i, 2]) - v[i, 2]
             s = 0.5 * rho[0] * cda[i] * wet * np.sqrt(r0 * r0 + r1 * r1 + r2 * r2)
             f[i, 0] += s * r0
             f[i, 1] += s * r1
@@ -346,8 +387,9 @@ def _orient_normals(x, prm):
 
 
 # A rigid body's table (BoundBodyHydro.native_table)
-B_INT, B_REAL, B_CD, B_AREA, B_ANG, B_DP, B_CP = range(7)
-# B_INT: body id, density kind, current kind; B_REAL: volume, height, gravity, centre of buoyancy (3)
+B_INT, B_REAL, B_CD, B_AREA, B_ANG, B_DP, B_CP, B_WAVES, B_WAVE_REAL, B_ADDED = range(10)
+# B_INT: body id, density kind, current kind, waves (0/1); B_REAL: volume, height, gravity, centre of
+# buoyancy (3); B_WAVES, B_WAVE_REAL: as T_WAVES, T_WAVE_REAL; B_ADDED: free joint (0/1), added mass (3)
 
 
 @_jit
@@ -368,6 +410,14 @@ def _body_loads(dp, table, offs, vel):
     v[1] = vel[4] + (w[2] * rx - w[0] * rz)
     v[2] = vel[5] + (w[0] * ry - w[1] * rx)
     force, torque = np.empty(3), np.empty(3)
+    if I[3]:  # (``BoundBodyHydro.wave_loads``)
+        eta, uw, aw = np.empty(1), np.empty((1, 3)), np.empty((1, 3))
+        _sea(table, B_WAVES, dp, offs, p.reshape((1, 3)), eta, uw, aw)
+        A = _vec(table, B_ADDED)
+        compiled.rigid_body_wave_loads(R, p, v, w, P[0], P[1], _vec(table, B_CD), _vec(table, B_AREA),
+                                       _vec(table, B_ANG), A[0] != 0.0, A[1:], I[1], _vec(table, B_DP), I[2],
+                                       _vec(table, B_CP), P[2], eta[0], uw[0], aw[0], force, torque)
+        return force, torque, p
     compiled.rigid_body_loads(R, p, v, w, P[0], P[1], _vec(table, B_CD), _vec(table, B_AREA), _vec(table, B_ANG),
                               I[1], _vec(table, B_DP), I[2], _vec(table, B_CP), P[2], force, torque)
     return force, torque, p
@@ -552,9 +602,9 @@ def _link() -> None:
 
 def offsets() -> np.ndarray:
     """Word offsets of the arrays the callback reads in mjData and mjModel (``_DATA_FIELDS``,
-    ``_MODEL_FIELDS``), and of mjModel's ``opt.timestep``."""
+    ``_MODEL_FIELDS``), and of mjModel's ``opt.timestep`` and mjData's ``time``."""
     _link()
-    return _table[:len(_DATA_FIELDS) + len(_MODEL_FIELDS) + 1]
+    return _table[:len(_DATA_FIELDS) + len(_MODEL_FIELDS) + 2]
 
 
 class Block:

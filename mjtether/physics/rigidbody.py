@@ -20,9 +20,9 @@ instantaneous surface (the centre of buoyancy's height over the elevation above 
 it is what the model carries: a free body's armature per world axis (x and y the mean of its x and
 y added masses, z its z), so that a neutrally buoyant free body moves with the water; a body
 without a free joint (welded, pinned) takes its body-axis added masses turned to the world,
-R diag(m_a) R^T. These loads run in Python (``wave_loads``, the sea from ``WaveField.state``,
-compiled where the kernels are; the native callback and the body's compiled kernel know no
-waves); without waves nothing changes.
+R diag(m_a) R^T. ``wave_loads`` states them (the sea from ``WaveField.state``); the native
+callback runs their compiled twin (``compiled.rigid_body_wave_loads``); without waves nothing
+changes.
 """
 
 from __future__ import annotations
@@ -143,14 +143,18 @@ class BoundBodyHydro:
 
     def native_table(self):
         """This body's arrays for the native callback (``native``, slots ``B_*``), or None where its
-        loads need Python (the NumPy kernels, or a water profile the compiled kernels do not know)."""
-        if self._codes is None or self.water.waves is not None:
+        loads need Python (the NumPy kernels, or a water profile the compiled kernels do not know); with
+        waves, the sea's components (``WaveField``'s table) and the added mass ``wave_loads`` takes."""
+        if self._codes is None:
             return None
         dkind, dp, ckind, cp = self._codes
-        h = self.hydro
-        return [np.array([self.id, dkind, ckind], dtype=np.int64),
+        h, waves = self.hydro, self.water.waves
+        sea = [] if waves is None else [
+            waves._table.ravel(), np.array([waves.depth, waves.ramp_s, waves.stretching == "wheeler"], dtype=float),
+            np.array([self._free, *h.added_mass], dtype=float)]
+        return [np.array([self.id, dkind, ckind, waves is not None], dtype=np.int64),
                 np.array([h.volume, h.height, self.water.gravity, *self._cob], dtype=float),
-                self._cd, self._area, self._ang, dp, cp]
+                self._cd, self._area, self._ang, dp, cp, *sea]
 
     def loads(self, model, data):
         """Force (N) at the centre of buoyancy, torque (N m) and that point, world frame."""

@@ -187,4 +187,3 @@ def run(sc: Scenario, progress=None, keep_nodes: bool = True, video=None, on_sta
     for k, key in enumerate(STATE_FIELDS):
         history[key] = np.array([st[k] for st in states])
     return ScenarioResult(rows, history, info)
-
