@@ -1,6 +1,6 @@
 """Compiled twins (numba) of a bound tether's per-step bookkeeping: the constraint rows of an
 equality, the tension-only switching, the elements' running peak push, the drum element's
-payout update and the divergence search. The NumPy/Python code they twin (``drum``, ``slack``,
+payout update, the divergence search and the snap-load detector's update (``snap``). The NumPy/Python code they twin (``drum``, ``slack``,
 ``readouts``, ``Simulation.check``) is the reference; ``tests/physics/test_compiled.py`` checks
 each against it (the peak push: ``tests/cable/test_compression_peak.py``). Units SI."""
 

@@ -48,7 +48,6 @@ import math
 import numpy as np
 
 from mjtether import _checks
-
 from mjtether.physics.compiled import backend
 
 from . import kernels
@@ -86,7 +85,9 @@ class SnapDetector:
     one per element (``slack_threshold`` gives the default from the static tensions);
     ``taut_threshold_N``: above it a slack element is taut again (default ``TAUT_FACTOR`` times
     the slack threshold; at least the slack threshold); ``window_s``: how long after
-    re-tautening the peak is sought (s)."""
+    re-tautening the peak is sought (s); ``compiled``: let ``update_from_constraints`` run the
+    compiled twin (``kernels.snap_update``) where the compiled kernels run (False: the NumPy
+    reference, ``update``, always)."""
 
     def __init__(self, n_elements: int, slack_threshold_N, taut_threshold_N=None, window_s: float = WINDOW_S,
                  compiled: bool = True):
