@@ -327,6 +327,8 @@ class _Harmonic:
         (m, ship axes from the reference point) at time(s) ``t`` (s): d + theta x r, the
         rotations linear about the reference point (module docstring)."""
         r = _checks.vector3("r_body", r_body)
+        if np.ndim(t) == 0:  # one time (a run's step): the three derivatives at once
+            return PointMotion(*self._moved(self._at(float(t)), r))
         return PointMotion(*(self._moved(self._q(t, n), r) for n in range(3)))
 
     def _moved(self, q: np.ndarray, r: np.ndarray) -> np.ndarray:
