@@ -394,28 +394,12 @@ def seabed_friction(x, v, stick, point, normal, radius, normal_force, mu, stiffn
 def rigid_body_loads(R, p_cob, v_cob, omega, volume, height, drag_cd, drag_area, angular_drag, dkind, dp, ckind, cp,
                      gravity, force, torque):
     """``hydro.rigid_body_loads`` into ``force`` (3,), N, at the centre of buoyancy and ``torque``
-    (3,), N m, world frame; the water profiles as codes (``profile_codes``)."""
-    zcob = p_cob[2]
-    depth = max(-min(zcob, 0.0), 0.0)
-    if height > 0:
-        frac = min(max(0.5 - zcob / height, 0.0), 1.0)
-    else:
-        frac = 1.0 if zcob <= 0 else 0.0
-    rho = _density(dkind, dp, depth)
-    u = np.empty(3)
-    u[0], u[1] = _current(ckind, cp, depth)
-    u[2] = 0.0
-    fb = np.empty(3)
-    tb = np.empty(3)
-    for k in range(3):  # body axes: R^T (u - v) and R^T omega
-        vk = (u[0] - v_cob[0]) * R[0, k] + (u[1] - v_cob[1]) * R[1, k] + (u[2] - v_cob[2]) * R[2, k]
-        wk = omega[0] * R[0, k] + omega[1] * R[1, k] + omega[2] * R[2, k]
-        fb[k] = (0.5 * rho * frac) * drag_cd[k] * drag_area[k] * abs(vk) * vk
-        tb[k] = -frac * angular_drag[k] * abs(wk) * wk
-    for j in range(3):
-        force[j] = R[j, 0] * fb[0] + R[j, 1] * fb[1] + R[j, 2] * fb[2]
-        torque[j] = R[j, 0] * tb[0] + R[j, 1] * tb[1] + R[j, 2] * tb[2]
-    force[2] += rho * gravity * volume * frac
+    (3,), N m, world frame; the water profiles as codes (``profile_codes``): the still sea of
+    ``rigid_body_wave_loads`` (no surface, particle velocity or acceleration: the same numbers
+    bit for bit, x + 0 being x)."""
+    still = np.zeros(3)
+    rigid_body_wave_loads(R, p_cob, v_cob, omega, volume, height, drag_cd, drag_area, angular_drag, True, still,
+                          dkind, dp, ckind, cp, gravity, 0.0, still, still, force, torque)
 
 
 @jit
