@@ -147,7 +147,10 @@ and say which here:
   examples (``walker_sea_state``, ``walker_sea_state_compensated``) added; every other run,
   and the environments, unchanged bit for bit. Then the native callback took the waves: those
   two moved by rounding (at most 8e-10 N in a row, 5e-13 of a value; the walker body's loads
-  summed in other order), nothing else.
+  summed in other order), nothing else. Then the ship's RAO motion at one time became
+  compiled (``vessel_motion.motion_kernel``: each harmonic's cosine and sine in place of one
+  complex exponential): those two moved by rounding again (at most 8e-10 N in a row), nothing
+  else.
 """
 
 from pathlib import Path

@@ -1,8 +1,10 @@
 """The ship's wave-frequency motion: displacement RAOs, and a prescribed heave (issue 43).
 
-Pure NumPy/SciPy, not yet wired into the runs. A ``ShipMotion`` or ``PrescribedHeave`` gives the
-6-DOF displacement of the ship's reference point and the offset, velocity and acceleration of a
-point fixed on the ship (a fairlead, a winch), for the fairleads and winches to ride on.
+A ``ShipMotion`` or ``PrescribedHeave`` gives the 6-DOF displacement of the ship's reference
+point and the offset, velocity and acceleration of a point fixed on the ship (a fairlead, a
+winch), for the fairleads and winches to ride on (``scenario.controllers.Ship``). NumPy/SciPy;
+the motion at one time, which a run asks for at every step, has a compiled twin
+(``motion_kernel``, where the compiled kernels run: ``physics.compiled``).
 
 Frames. World: z up, headings from +x towards +y (rad). Ship axes (OrcaFlex's vessel axes): x
 forward (surge), y to port (sway), z up (heave), origin at the **reference point** (the RAO
@@ -63,6 +65,7 @@ import numpy as np
 from scipy.interpolate import RegularGridInterpolator
 
 from mjtether import _checks
+from mjtether.physics import compiled
 
 DOFS = ("surge", "sway", "heave", "roll", "pitch", "yaw")
 """The six DOFs, in the order of every array here (ship axes)."""
@@ -280,30 +283,40 @@ class _Harmonic:
         ch, sh = math.cos(heading), math.sin(heading)
         self._R = np.array([[ch, -sh, 0.0], [sh, ch, 0.0], [0.0, 0.0, 1.0]])  # ship axes -> world
         self.ramp_s = _checks.non_negative("ramp_s", ramp_s, "s")
-        self._last = (math.nan, None)  # (t, q and its two time derivatives (3, 6)): see _q
+        self.compiled = compiled.backend() == "numba"  # (``motion_kernel`` at one time)
+        self._re, self._im = np.ascontiguousarray(c.real), np.ascontiguousarray(c.imag)
+        self._last = (math.nan, None, None, None)  # (t, r, q (3, 6), the point r's motion (3, 3)): see _at
 
-    def _at(self, t: float) -> np.ndarray:
-        """q and its first two time derivatives (3, 6) at one time ``t`` (s), from one complex
-        exponential, kept for the next call at the same ``t`` (the ship, the winch's compensator
-        and the hull's pose all read the motion of one step)."""
-        if t == self._last[0]:
-            return self._last[1]
-        e = np.exp(1j * t * self._omega)
-        iw = 1j * self._omega
-        q = np.array([(e @ self._c).real, ((e * iw) @ self._c).real, ((e * iw * iw) @ self._c).real])
-        if self.ramp_s > 0.0 and t < self.ramp_s:  # (the build-up, by Leibniz's rule)
-            from .waves import build_up
-            r, dr, ddr = (float(v) for v in build_up(t, self.ramp_s))
-            q = np.array([r * q[0], r * q[1] + dr * q[0], r * q[2] + 2.0 * dr * q[1] + ddr * q[0]])
-        self._last = (t, q)
-        return q
+    def _at(self, t: float, r: np.ndarray = None) -> tuple[np.ndarray, np.ndarray | None]:
+        """(q and its first two time derivatives (3, 6), and the offset, velocity and
+        acceleration (3, 3) of the point ``r`` (m, ship axes; None: not asked)) at one time
+        ``t`` (s), from one evaluation of each harmonic, kept for the next call at the same
+        ``t`` and ``r`` (the ship, the winch's compensator and the hull's pose all read the
+        motion of one step). Compiled (``motion_kernel``) where ``compiled``, else NumPy."""
+        last = self._last
+        if t == last[0] and (r is None or r is last[1] or (last[1] is not None and np.array_equal(r, last[1]))):
+            return last[2], (None if r is None else last[3])
+        if self.compiled:
+            q, p = np.empty((3, 6)), np.empty((3, 3))
+            motion_kernel(t, self._omega, self._re, self._im, self.ramp_s, _ORIGIN if r is None else r, self._R, q, p)
+        else:
+            e = np.exp(1j * t * self._omega)
+            iw = 1j * self._omega
+            q = np.array([(e @ self._c).real, ((e * iw) @ self._c).real, ((e * iw * iw) @ self._c).real])
+            if self.ramp_s > 0.0 and t < self.ramp_s:  # (the build-up, by Leibniz's rule)
+                from .waves import build_up
+                a, da, dda = (float(v) for v in build_up(t, self.ramp_s))
+                q = np.array([a * q[0], a * q[1] + da * q[0], a * q[2] + 2.0 * da * q[1] + dda * q[0]])
+            p = None if r is None else self._moved(q, r)
+        self._last = (t, r, q, p)
+        return q, (None if r is None else p)
 
     def _q(self, t, order: int) -> np.ndarray:
         """The ``order``-th time derivative of q at times ``t`` (s): (6,) or (len(t), 6); with a
         build-up (``ramp_s`` > 0, ``waves.build_up``) of the ramped motion r(t) q(t), by Leibniz's
         rule."""
         if np.ndim(t) == 0 and order <= 2:
-            return self._at(float(t))[order].copy()
+            return self._at(float(t))[0][order].copy()
         t = np.asarray(t, dtype=float)
         tt = np.atleast_1d(t)
         e = np.exp(1j * np.multiply.outer(tt, self._omega))      # (m, n)
@@ -319,6 +332,10 @@ class _Harmonic:
     def pose(self, t) -> np.ndarray:
         """The reference point's displacement at time(s) ``t`` (s): x, y, z (m, world axes) and
         roll, pitch, yaw (rad, about the ship's axes); shape (6,) or (len(t), 6)."""
+        if np.ndim(t) == 0:  # (one time: a run's step)
+            q, out = self._at(float(t))[0][0], np.empty(6)
+            out[:3], out[3:] = self._R @ q[:3], q[3:]
+            return out
         q = self._q(t, 0)
         return np.concatenate([q[..., :3] @ self._R.T, q[..., 3:]], axis=-1)
 
@@ -326,9 +343,10 @@ class _Harmonic:
         """Offset (m), velocity (m/s), acceleration (m/s^2), world axes, of the point ``r_body``
         (m, ship axes from the reference point) at time(s) ``t`` (s): d + theta x r, the
         rotations linear about the reference point (module docstring)."""
-        r = _checks.vector3("r_body", r_body)
+        last = self._last[1]
+        r = last if r_body is last else _checks.vector3("r_body", r_body)  # (a run asks for one point)
         if np.ndim(t) == 0:  # one time (a run's step): the three derivatives at once
-            return PointMotion(*self._moved(self._at(float(t)), r))
+            return PointMotion(*self._at(float(t), r)[1].copy())
         return PointMotion(*(self._moved(self._q(t, n), r) for n in range(3)))
 
     def _moved(self, q: np.ndarray, r: np.ndarray) -> np.ndarray:
@@ -336,6 +354,47 @@ class _Harmonic:
         cross = np.stack([a[..., 1] * b[2] - a[..., 2] * b[1], a[..., 2] * b[0] - a[..., 0] * b[2],
                           a[..., 0] * b[1] - a[..., 1] * b[0]], axis=-1)
         return (q[..., :3] + cross) @ self._R.T
+
+
+_ORIGIN = np.zeros(3)
+
+
+@compiled.jit
+def motion_kernel(t, omega, c_re, c_im, ramp_s, r, R, q, p):
+    """``_Harmonic._at`` compiled: into ``q`` (3, 6) the six DOFs (ship axes, m and rad) and
+    their first two time derivatives at time ``t`` (s), Re{sum_i c_i (i omega_i)^n
+    e^{i omega_i t}} (``c_re``, ``c_im``: c's parts (n, 6); ``omega`` (n,), rad/s), times the
+    build-up of ``ramp_s`` (s; ``waves.build_up``) by Leibniz's rule; into ``p`` (3, 3) the
+    offset, velocity and acceleration (world, m, m/s, m/s^2) of the point ``r`` (m, ship axes):
+    (d + theta x r) turned by ``R`` (ship axes to world), as ``_moved``."""
+    for n in range(3):
+        for j in range(6):
+            q[n, j] = 0.0
+    for i in range(omega.shape[0]):
+        w = omega[i]
+        co, si = math.cos(w * t), math.sin(w * t)
+        for j in range(6):  # e c = (co + i si)(cr + i ci); i w e c; -w^2 e c
+            re = co * c_re[i, j] - si * c_im[i, j]
+            im = si * c_re[i, j] + co * c_im[i, j]
+            q[0, j] += re
+            q[1, j] -= w * im
+            q[2, j] -= w * w * re
+    if ramp_s > 0.0 and t < ramp_s:
+        a = da = dda = 0.0
+        if t > 0.0:
+            v = math.pi / ramp_s
+            a, da, dda = 0.5 * (1.0 - math.cos(v * t)), 0.5 * v * math.sin(v * t), 0.5 * v * v * math.cos(v * t)
+        for j in range(6):
+            q0, q1 = q[0, j], q[1, j]
+            q[0, j] = a * q0
+            q[1, j] = a * q1 + da * q0
+            q[2, j] = a * q[2, j] + 2.0 * da * q1 + dda * q0
+    for n in range(3):
+        x = q[n, 0] + (q[n, 4] * r[2] - q[n, 5] * r[1])
+        y = q[n, 1] + (q[n, 5] * r[0] - q[n, 3] * r[2])
+        z = q[n, 2] + (q[n, 3] * r[1] - q[n, 4] * r[0])
+        for k in range(3):
+            p[n, k] = R[k, 0] * x + R[k, 1] * y + R[k, 2] * z
 
 
 OUTSIDE = ("error", "zero", "short_zero")

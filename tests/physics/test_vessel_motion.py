@@ -181,8 +181,10 @@ def test_velocity_and_acceleration_are_the_offsets_derivatives(tmp_path):
 
 @pytest.mark.parametrize("ramp_s", [0.0, 12.0])
 def test_one_time_and_many_times_give_the_same_motion(tmp_path, ramp_s):
-    """The motion at one time (the run's path: one exponential for the three derivatives, kept
-    for the next call at that time) equals the vectorised one at the same times, with and
+    """The motion at one time (the run's path: one evaluation for the three derivatives, kept
+    for the next call at that time; compiled, ``motion_kernel``, where the compiled kernels run,
+    and with ``MJTETHER_KERNELS=numpy`` the NumPy twin) equals the vectorised NumPy reference at
+    the same times, with and
     without a build-up (12 s: half the times inside it), to 1e-12 of the largest value; and the
     ramped velocity and acceleration are still the offset's derivatives (central differences,
     as above)."""
