@@ -1,6 +1,6 @@
 """Gymnasium environments for tether-aware control (installed as ``mjtether.envs``).
 
-Importing this package registers:
+``import mjtether`` (and so the import of this package) registers (``mjtether._ENVIRONMENTS``):
 
 * ``mjtether/TetherWinch-v0`` (``TetherWinchEnv``): command the winch behind a walker that
   follows a scripted route (with ``sea_state``, from a ship in waves, against snap loads);
@@ -17,11 +17,14 @@ Hand-written controllers to compare against (``baselines``): ``FollowPayout`` (K
 (an active heave compensator, for ``TetherWinch-v0`` in a sea state), ``SteerToGoal`` and
 ``StationKeepingPID``.
 
->>> import gymnasium as gym, mjtether.envs  # noqa: F401
+>>> import gymnasium as gym, mjtether  # noqa: F401
 >>> env = gym.make("mjtether/TetherWinch-v0")
+
+or, with no import, ``gym.make("mjtether:mjtether/TetherWinch-v0")`` (Gymnasium imports the module
+named before the colon); see docs/environments.md.
 """
 
-from gymnasium.envs.registration import register, registry
+from mjtether import _register_environments
 
 from .baselines import FollowPayout, HeaveCompensationPayout, SlackPI, SlantRangePayout, StationKeepingPID, SteerToGoal
 from .tether_winch import TetherWinchEnv
@@ -32,9 +35,4 @@ from .tethered_walker import TetheredWalkerEnv
 __all__ = ["TetherWinchEnv", "TetheredWalkerEnv", "TetheredROVEnv", "TetheredSystemEnv", "FollowPayout",
            "HeaveCompensationPayout", "SlantRangePayout", "SlackPI", "SteerToGoal", "StationKeepingPID"]
 
-for _id, _entry, _steps in (("mjtether/TetherWinch-v0", "mjtether.envs.tether_winch:TetherWinchEnv", 600),
-                            ("mjtether/TetheredWalker-v0", "mjtether.envs.tethered_walker:TetheredWalkerEnv", 900),
-                            ("mjtether/TetheredROV-v0", "mjtether.envs.tethered_rov:TetheredROVEnv", 600),
-                            ("mjtether/TetheredSystem-v0", "mjtether.envs.tethered_system:TetheredSystemEnv", 600)):
-    if _id not in registry:
-        register(id=_id, entry_point=_entry, max_episode_steps=_steps)
+_register_environments()  # (again, should the ids have been taken out of Gymnasium's registry)

@@ -47,6 +47,13 @@ def has_display() -> bool:
     return sys.platform in ("darwin", "win32") or bool(os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY"))
 
 
+def usable_render_modes(modes) -> list[str]:
+    """The render modes of ``modes`` that work on this machine now: all of them, less ``"human"``
+    where there is no display (``has_display``). An instance's ``metadata["render_modes"]``: what
+    Gymnasium's ``check_env`` builds and renders; the class's lists every mode it implements."""
+    return [m for m in modes if m != "human" or has_display()]
+
+
 def check_camera_config(config: dict | None) -> dict:
     """``default_camera_config`` with its defaults, or a ValueError naming the bad entry."""
     config = {} if config is None else config
@@ -188,7 +195,10 @@ class TetherEnv(PickledByKeywords, gym.Env):
       uint8, drawn offscreen by ``mjtether.io.render``: no display needed) or ``"human"`` (a window,
       MuJoCo's passive viewer, updated on every ``reset`` and ``step`` and paced to real time;
       without a display, DISPLAY or WAYLAND_DISPLAY, the constructor raises
-      ``mjtether.io.render.RenderUnavailable``, a RuntimeError), or ``"depth_array"`` (``render()``
+      ``mjtether.io.render.RenderUnavailable``, a RuntimeError, and the instance's
+      ``metadata["render_modes"]`` leaves ``"human"`` out, so that Gymnasium's ``check_env``, which
+      builds every mode listed there, passes on a headless machine; the class's ``metadata`` lists
+      all three), or ``"depth_array"`` (``render()``
       returns (height, width) float32, the distance in m from the camera along its viewing axis
       to the first surface, as Gymnasium's MuJoCo environments give it; the physical objects
       only: no water surface, current arrows or goal marker).
@@ -244,7 +254,8 @@ class TetherEnv(PickledByKeywords, gym.Env):
         self.camera_config = check_camera_config(default_camera_config)
         self.camera_name, self.camera_id = camera_name, camera_id
         self._view, self._model_camera = select_camera(camera_name, camera_id, self.camera_config["camera"])
-        self.metadata = dict(self.metadata, render_fps=round(1.0 / self.dt))
+        self.metadata = dict(self.metadata, render_fps=round(1.0 / self.dt),
+                             render_modes=usable_render_modes(type(self).metadata["render_modes"]))
         self.runner: ScenarioRun | None = None
         self._renderer = None
         self._viewer = None  # render_mode "human": MuJoCo's passive viewer of the current runner

@@ -12,12 +12,17 @@ parameters (the paper's Table II) did not survive in our copy, nor could the stu
 from (Feng and Allen 2004, Ocean Engineering 31, 1019-1035, the Subzero II vehicle) be read:
 they are assumed (in the example files; ``docs/auv_fibre_reproduction.md`` says why).
 
-    python scripts/reproduce_001.py [--json] [--quick] [--out docs/auv_fibre_reproduction.md]
+    python scripts/reproduce_001.py            # every case (minutes): docs/reproductions/auv_fibre.json, then the page
+    python scripts/reproduce_001.py --render   # no simulation: the page from the committed JSON
+    python scripts/reproduce_001.py --json [--quick]
 
-``--json`` prints the straight run's tensions as JSON (``{"length_m": [200, 500, 1000],
-"tension_N": [...], ...}``); ``--quick`` uses 25 m elements and steps of 0.01 s (for CI) and
-runs the straight case only; without ``--json`` or ``--quick`` every case runs and the report
-is written.
+Every number of the page sits in a marker, ``<!--repro:auv_fibre.KEY:FORMAT-->text<!--/repro-->``
+(the syntax of ``scripts/make_bench_docs.py``'s ``bench`` markers, read from
+``docs/reproductions/`` instead of ``docs/bench/``), which ``tests/papers/test_reproduction_docs.py``
+checks against the JSON. The JSON is ``{"result": ..., "measured": {date, command, commit, wall
+time, machine, versions}}``, as benchmark JSON is. ``--json`` prints the result (the straight
+run's ``length_m``, ``tension_N``, ... at the top level); ``--quick`` uses 25 m elements and steps
+of 0.01 s (for CI), runs the straight case only and writes nothing.
 """
 
 from __future__ import annotations
@@ -26,6 +31,7 @@ import argparse
 import json
 import math
 import sys
+import time
 from pathlib import Path
 
 import numpy as np
@@ -35,6 +41,12 @@ from mjtether.scenario.runner import run
 from mjtether.scenario import load_scenario
 
 ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT / "scripts"))
+import make_bench_docs as mbd  # noqa: E402  (the marker syntax, the JSON lookup, the machine block)
+
+NAME = "auv_fibre"  # docs/reproductions/auv_fibre.json
+REPRO_DIR = ROOT / "docs" / "reproductions"
+DOC = ROOT / "docs" / "auv_fibre_reproduction.md"
 EXAMPLES = ROOT / "examples"
 COL = {name: k for k, (name, _, _) in enumerate(RECORD_FIELDS)}
 LENGTHS = (200.0, 500.0, 1000.0)  # m, Table III
@@ -122,7 +134,7 @@ def manoeuvres() -> list[dict]:
 
 def _tangle_summary(rows: np.ndarray) -> dict:
     T = rows[:, COL["tow_tension"]]
-    late = rows[:, COL["time"]] >= 15.0
+    late = rows[:, COL["time"]] >= MONITOR_FROM
     c, sc = rows[late, COL["cable_clearance"]], rows[late, COL["cable_self_clearance"]]
     k = int(np.argmin(c))
     return {"max_tension_N": float(T.max()), "final_tension_N": float(T[-1]),
@@ -131,6 +143,7 @@ def _tangle_summary(rows: np.ndarray) -> dict:
             "plan_crossings": int(rows[:, COL["cable_plan_crossings"]].max())}
 
 
+MONITOR_FROM = 15.0  # s: the tangle monitor's numbers are read from then on
 ANGLES = (30.0, 45.0, 60.0, 90.0)  # deg: port turns before the circle (the paper gives none)
 
 
@@ -147,46 +160,117 @@ def antitwining_angles() -> list[dict]:
     return out
 
 
+def inputs() -> dict:
+    """The straight example's inputs that the page quotes (SI but the diameter, in mm)."""
+    sc = scenario("auv_fibre_straight")
+    t, w = sc.tether, sc.winch
+    return {"speed_m_s": float(sc.robot.path[-1][1]), "diameter_mm": t.diameter * 1000, "density_kg_m3": t.density,
+            "cd_normal": t.cd_normal, "cd_tangential": t.cd_tangential, "EA_N": t.EA,
+            "drum_damping_N_s_m": w.drum_damping, "element_m": t.length / t.segments,
+            "self_clearance_reach_m": 5 * t.length / t.segments, "monitor_from_s": MONITOR_FROM,
+            "antitwining_turn_deg": float(scenario("auv_fibre_circle_antitwining").robot.path[2][2])}
+
+
+def results(quick: bool) -> dict:
+    """Everything the page shows: the straight run's keys at the top level (what ``--json
+    --quick`` prints), and with ``quick`` false the currents, manoeuvres and port turns."""
+    s = straight(quick)
+    if quick:
+        return s
+    s = {**s, "inputs": inputs(), "currents": currents(), "manoeuvres": manoeuvres(),
+         "port_turns": antitwining_angles()}
+    s["implied_cdt_at_our_d"] = s["implied_cdt_d_m"] / (s["inputs"]["diameter_mm"] / 1000)
+    s["implied_d_at_our_cdt_mm"] = s["implied_cdt_d_m"] / s["inputs"]["cd_tangential"] * 1000
+    return s
+
+
+def measured(command: str, wall_s: float) -> dict:
+    """Where and when the numbers were made: the ``measured`` block of make_bench_docs.py."""
+    import datetime
+    import importlib.metadata
+    import os
+    import platform
+
+    return {"date": datetime.date.today().isoformat(), "command": command, "commit": mbd._commit(),
+            "wall_s": round(wall_s, 1),
+            "machine": {"platform": platform.platform(), "cpu": mbd._cpu_model(), "cpu_count": os.cpu_count()},
+            "python": platform.python_version(), "mujoco": importlib.metadata.version("mujoco"),
+            "mjtether": importlib.metadata.version("mjtether")}
+
+
+def write_json(result: dict, meas: dict, repro_dir: Path = REPRO_DIR) -> Path:
+    repro_dir.mkdir(parents=True, exist_ok=True)
+    out = repro_dir / f"{NAME}.json"
+    out.write_text(json.dumps({"result": result, "measured": meas}, indent=1) + "\n")
+    return out
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--json", action="store_true", help="print the straight run's tensions as JSON")
-    ap.add_argument("--quick", action="store_true", help="25 m elements, 0.01 s steps, the straight run only")
-    ap.add_argument("--out", default=str(ROOT / "docs" / "auv_fibre_reproduction.md"))
+    ap.add_argument("--json", action="store_true", help="print the result as JSON")
+    ap.add_argument("--quick", action="store_true", help="25 m elements, 0.01 s steps, the straight run only; "
+                    "writes nothing")
+    ap.add_argument("--render", action="store_true", help="no simulation: write the page from the committed JSON")
+    ap.add_argument("--out", default=str(DOC))
     a = ap.parse_args(argv)
-    s = straight(a.quick)
+    if a.render:
+        Path(a.out).write_text(render())
+        print(f"wrote {a.out} from {mbd._rel(REPRO_DIR / f'{NAME}.json')}")
+        return 0
+    t0 = time.perf_counter()
+    s = results(a.quick)
+    wall = time.perf_counter() - t0
     if a.json:
         print(json.dumps(s, indent=1))
-        return 0
-    print("straight, calm: tension at " + ", ".join(f"{L:g} m {T:.2f} N" for L, T in zip(LENGTHS, s["tension_N"]))
-          + f"; T(1000)/T(500) = {s['ratio_1000_500']:.3f}; the paper: {PAPER_T1000} N at 1000 m")
+    else:
+        _print_summary(s)
     if a.quick:
         return 0
-    cur = currents()
-    for c in cur:
-        print(f"straight 500 s, {c['case']}: {c['tension_N']:.2f} N with {c['deployed_m']:.0f} m out")
-    man = manoeuvres()
-    for m in man:
-        print(f"{m['case']}: tension up to {m['max_tension_N']:.2f} N, {m['final_tension_N']:.2f} N at the end "
-              f"with {m['deployed_m']:.0f} m out; closest to the vehicle {m['min_clearance_m']:.2f} m")
-    ang = antitwining_angles()
-    for g in ang:
-        print(f"anti-twining with a {g['port_turn_deg']:g} deg port turn: closest {g['min_clearance_m']:.2f} m")
-    write_report(Path(a.out), s, cur, man, ang)
-    print(f"wrote {a.out}")
+    cmd = "python scripts/reproduce_001.py" + (" --json" if a.json else "")
+    out = write_json(s, measured(cmd, wall))
+    Path(a.out).write_text(render())
+    print(f"wrote {mbd._rel(out)} ({wall:.0f} s) and {a.out}", file=sys.stderr if a.json else sys.stdout)
     return 0
 
 
-def write_report(path: Path, s: dict, cur: list, man: list, ang: list) -> None:
-    """``docs/auv_fibre_reproduction.md`` from the results."""
-    sc = scenario("auv_fibre_straight")
-    t, w = sc.tether, sc.winch
-    T = s["tension_N"]
-    circle = {m["example"]: m for m in man}
-    plain, anti = circle["auv_fibre_circle"], circle["auv_fibre_circle_antitwining"]
+def _print_summary(s: dict) -> None:
+    print("straight, calm: tension at " + ", ".join(f"{L:g} m {T:.2f} N" for L, T in zip(LENGTHS, s["tension_N"]))
+          + f"; T(1000)/T(500) = {s['ratio_1000_500']:.3f}; the paper: {PAPER_T1000} N at 1000 m")
+    for c in s.get("currents", ()):
+        print(f"straight 500 s, {c['case']}: {c['tension_N']:.2f} N with {c['deployed_m']:.0f} m out")
+    for m in s.get("manoeuvres", ()):
+        print(f"{m['case']}: tension up to {m['max_tension_N']:.2f} N, {m['final_tension_N']:.2f} N at the end "
+              f"with {m['deployed_m']:.0f} m out; closest to the vehicle {m['min_clearance_m']:.2f} m")
+    for g in s.get("port_turns", ()):
+        print(f"anti-twining with a {g['port_turn_deg']:g} deg port turn: closest {g['min_clearance_m']:.2f} m")
+
+
+def marker(key: str, fmt: str = "", repro_dir: Path = REPRO_DIR) -> str:
+    """``key`` of the result (``@key``: of the measured block) as a marker holding its text."""
+    ref = f"{NAME}{'' if key.startswith('@') else '.'}{key}" + (f":{fmt}" if fmt else "")
+    return f"<!--repro:{ref}-->{mbd.value_of(ref, repro_dir)}<!--/repro-->"
+
+
+def render(repro_dir: Path = REPRO_DIR) -> str:
+    """``docs/auv_fibre_reproduction.md`` from ``docs/reproductions/auv_fibre.json``: every number
+    a marker (no simulation)."""
+    res = json.loads((repro_dir / f"{NAME}.json").read_text())["result"]
+
+    def m(key, fmt=""):
+        return marker(key, fmt, repro_dir)
+
+    examples = [x["example"] for x in res["manoeuvres"]]
+    plain = f"manoeuvres.{examples.index('auv_fibre_circle')}"
+    k_anti = examples.index("auv_fibre_circle_antitwining")
+    anti = f"manoeuvres.{k_anti}"
+    verdict = "holds" if res["manoeuvres"][k_anti]["min_clearance_m"] > 0 else "fails here"
+    speed = m("inputs.speed_m_s", "g")
     lines = [
         "# Reproducing the tethered AUV that pays out optical fibre",
         "",
-        "Generated by `python scripts/reproduce_001.py`; do not edit by hand.",
+        "Generated by `python scripts/reproduce_001.py` from `docs/reproductions/auv_fibre.json` "
+        f"(made on {m('@date')} at {m('@commit')} in {m('@wall_s', '.0f')} s on a "
+        f"{m('@machine.cpu_count')}-core machine); do not edit by hand.",
         "",
         "The study: a tethered-AUV model from the Australian Maritime College (its Mullaya AUV; a",
         "finite-difference cable after Ablow and Schechter, 1983, Ocean Engineering 10(6)), in which",
@@ -200,20 +284,21 @@ def write_report(path: Path, s: dict, cur: list, man: list, ang: list) -> None:
         "",
         "| input | value | source |",
         "|---|---|---|",
-        "| vehicle motion | prescribed: 1 m/s through the water, heading and pitch as given (`robot.path`) "
+        f"| vehicle motion | prescribed: {speed} m/s through the water, heading and pitch as given (`robot.path`) "
         "| the paper: \"the AUV is moving at equilibrium conditions\" |",
         "| vehicle | the REMUS 100's hull and tail tow point (Fossen's model) | the Mullaya AUV's Table I did "
         "not survive; with the motion prescribed only the tow point's place and the hull (for the tangle "
         "monitor) enter |",
-        f"| fibre diameter | {t.diameter * 1000:g} mm | assumed (a tight-buffered fibre of that class) |",
-        f"| fibre density | {t.density:g} kg/m³ (neutral) | the paper: neutrally buoyant |",
-        f"| normal drag coefficient | {t.cd_normal:g} (on d l) | assumed: a circular cylinder at Re ~ 1000 |",
-        f"| tangential drag coefficient | {t.cd_tangential:g} (on π d l) | assumed |",
-        f"| EA | {t.EA:g} N | the paper: inelastic; 0.01 % stretch at 5 N (a hard constraint, EA = 0, rings "
-        "on a prescribed tow point) |",
-        f"| drum | free, {w.drum_damping:g} N s/m ({w.drum_damping:g} N at 1 m/s of payout), from 0 m | the paper: "
+        f"| fibre diameter | {m('inputs.diameter_mm', 'g')} mm | assumed (a tight-buffered fibre of that class) |",
+        f"| fibre density | {m('inputs.density_kg_m3', 'g')} kg/m³ (neutral) | the paper: neutrally buoyant |",
+        f"| normal drag coefficient | {m('inputs.cd_normal', 'g')} (on d l) | assumed: a circular cylinder at "
+        "Re ~ 1000 |",
+        f"| tangential drag coefficient | {m('inputs.cd_tangential', 'g')} (on π d l) | assumed |",
+        f"| EA | {m('inputs.EA_N', 'g')} N | the paper: inelastic; 0.01 % stretch at 5 N (a hard constraint, "
+        "EA = 0, rings on a prescribed tow point) |",
+        f"| drum | free, {m('inputs.drum_damping_N_s_m', 'g')} N s/m, from empty | the paper: "
         "T = 0 at the drum, nothing deployed at the start |",
-        f"| elements | {t.length / t.segments:g} m paid out | mjtether's choice |",
+        f"| elements | {m('inputs.element_m', 'g')} m paid out | mjtether's choice |",
         "",
         "The paper's Table II (cable and fluid) did not survive in our copy. It takes them from Feng and",
         "Allen (2004), \"Evaluation of the effects of the communication cable on the dynamics of an",
@@ -226,32 +311,36 @@ def write_report(path: Path, s: dict, cur: list, man: list, ang: list) -> None:
         "| deployed (m) | mjtether tow tension (N) | 1/2 ρ C_dt π d L v² + drum (N) | the paper (N) |",
         "|---|---|---|---|",
     ]
-    paper = {1000.0: f"{PAPER_T1000:g}"}
-    for L, x, d in zip(LENGTHS, T, s["tangential_drag_N"]):
-        lines.append(f"| {L:g} | {x:.2f} | {d:.2f} | {paper.get(L, 'lost')} |")
+    for k, L in enumerate(res["length_m"]):
+        paper = m("paper_tension_1000_N", "g") if L == 1000.0 else "lost"
+        lines.append(f"| {m(f'length_m.{k}', 'g')} | {m(f'tension_N.{k}', '.2f')} | "
+                     f"{m(f'tangential_drag_N.{k}', '.2f')} | {paper} |")
     lines += [
         "",
-        f"T(1000)/T(500) = {s['ratio_1000_500']:.3f}. With a free drum the fibre leaves the drum at the",
+        f"T(1000)/T(500) = {m('ratio_1000_500', '.3f')}. With a free drum the fibre leaves the drum at the",
         "vehicle's speed and lies straight behind it, so all of it slides along itself through the water",
-        "at 1 m/s: the tension at the tow point is the tangential drag of the whole deployed length,",
+        f"at {speed} m/s: the tension at the tow point is the tangential drag of the whole deployed length,",
         "growing linearly with it, plus the drum's own small pull; hence a ratio of 2 less the drum's",
-        "share. Only the product C_dt d sets the slope: the paper's 51.055 N at 1000 m (the one entry",
-        f"of Table III that survived) means C_dt d = {s['implied_cdt_d_m']:.3g} m, e.g. C_dt = "
-        f"{s['implied_cdt_d_m'] / t.diameter:.3f} on our {t.diameter * 1000:g} mm fibre, or our "
-        f"{t.cd_tangential:g} on a {s['implied_cdt_d_m'] / t.cd_tangential * 1000:.1f} mm cable. Our assumed "
-        f"fibre gives {T[2]:.2f} N; the difference is the fibre, not the physics.",
+        f"share. Only the product C_dt d sets the slope: the paper's {m('paper_tension_1000_N', 'g')} N at 1000 m "
+        "(the one entry",
+        f"of Table III that survived) means C_dt d = {m('implied_cdt_d_m', '.3g')} m, e.g. C_dt = "
+        f"{m('implied_cdt_at_our_d', '.3f')} on our {m('inputs.diameter_mm', 'g')} mm fibre, or our "
+        f"{m('inputs.cd_tangential', 'g')} on a {m('implied_d_at_our_cdt_mm', '.1f')} mm cable. Our assumed "
+        f"fibre gives {m('tension_N.2', '.2f')} N; the difference is the fibre, not the physics.",
         "",
         "## Straight running in the paper's currents (500 s)",
         "",
         "| current | tow tension (N) | deployed (m) | sideways drift of the vehicle (m) |",
         "|---|---|---|---|",
     ]
-    for c in cur:
-        lines.append(f"| {c['case']} | {c['tension_N']:.2f} | {c['deployed_m']:.0f} | {c['robot_y_m']:.1f} |")
+    for k in range(len(res["currents"])):
+        c = f"currents.{k}"
+        lines.append(f"| {m(c + '.case')} | {m(c + '.tension_N', '.2f')} | {m(c + '.deployed_m', '.0f')} "
+                     f"| {m(c + '.robot_y_m', '.1f')} |")
     lines += [
         "",
         "A current along the track carries the vehicle and the fibre alike: the fibre still slides",
-        "through the water at 1 m/s, so its tension per metre is unchanged and only the deployed",
+        f"through the water at {speed} m/s, so its tension per metre is unchanged and only the deployed",
         "length differs (more with the current, less against it). The paper calls the current that",
         "raises the tension \"upstream\" and explains it by the vehicle's \"absolute velocity increased by",
         "the current\": that is the current along the track, our \"downstream\". A cross current carries",
@@ -265,29 +354,38 @@ def write_report(path: Path, s: dict, cur: list, man: list, ang: list) -> None:
         "| closest to itself (m) | plan crossings |",
         "|---|---|---|---|---|---|---|",
     ]
-    for m in man:
-        lines.append(f"| {m['case']} | {m['max_tension_N']:.2f} | {m['final_tension_N']:.2f} | {m['deployed_m']:.0f} "
-                     f"| {m['min_clearance_m']:.2f} | {m['min_self_clearance_m']:.2f} | {m['plan_crossings']} |")
+    for k in range(len(res["manoeuvres"])):
+        c = f"manoeuvres.{k}"
+        lines.append(f"| {m(c + '.case')} | {m(c + '.max_tension_N', '.2f')} | {m(c + '.final_tension_N', '.2f')} "
+                     f"| {m(c + '.deployed_m', '.0f')} | {m(c + '.min_clearance_m', '.2f')} "
+                     f"| {m(c + '.min_self_clearance_m', '.2f')} | {m(c + '.plan_crossings')} |")
     lines += [
         "",
-        "(Clearances from 15 s on, from the tangle monitor: `cable_clearance_m`, `cable_self_clearance_m`,",
+        f"(Clearances from {m('inputs.monitor_from_s', 'g')} s on, from the tangle monitor: `cable_clearance_m`, "
+        "`cable_self_clearance_m`,",
         "`cable_plan_crossings` in `timeseries.csv`. A negative clearance is the cable through the hull,",
         "which mjtether does not stop: it has no contact between cable and vehicle. The cable's",
-        f"clearance from itself is looked for up to five elements, {5 * t.length / t.segments:g} m: farther shows as "
-        "that.)",
+        f"clearance from itself is looked for up to five elements, {m('inputs.self_clearance_reach_m', 'g')} m: "
+        "farther shows as that.)",
         "",
         "## The circle and the anti-twining manoeuvre",
         "",
-        f"Without the manoeuvre the vehicle's smallest clearance from its fibre is {plain['min_clearance_m']:.2f} m "
-        f"(at {plain['min_clearance_time_s']:.0f} s, as it comes back over the drum; below 0: through it); with a "
-        f"30° port turn first, {anti['min_clearance_m']:.2f} m (the paper's claim holds). The paper gives no angle, "
+        "Without the manoeuvre the vehicle's smallest clearance from its fibre is "
+        f"{m(plain + '.min_clearance_m', '.2f')} m "
+        f"(at {m(plain + '.min_clearance_time_s', '.0f')} s, as it comes back over the drum; below 0: through it); "
+        f"with a {m('inputs.antitwining_turn_deg', 'g')}° port turn first, "
+        f"{m(anti + '.min_clearance_m', '.2f')} m (the paper's claim "
+        f"{verdict}). "
+        "The paper gives no angle, "
         "and the result depends on it:",
         "",
         "| port turn (deg) | closest to the vehicle (m) | at (s) |",
         "|---|---|---|",
     ]
-    for g in ang:
-        lines.append(f"| {g['port_turn_deg']:g} | {g['min_clearance_m']:.2f} | {g['min_clearance_time_s']:.0f} |")
+    for k in range(len(res["port_turns"])):
+        g = f"port_turns.{k}"
+        lines.append(f"| {m(g + '.port_turn_deg', 'g')} | {m(g + '.min_clearance_m', '.2f')} "
+                     f"| {m(g + '.min_clearance_time_s', '.0f')} |")
     lines += [
         "",
         "Why: a neutrally buoyant fibre moves with the water, as the vehicle does, so in a uniform",
@@ -299,10 +397,7 @@ def write_report(path: Path, s: dict, cur: list, man: list, ang: list) -> None:
         "monitor reports the clearances for any other.",
         "",
     ]
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_suffix(".tmp")
-    tmp.write_text("\n".join(lines))
-    tmp.replace(path)
+    return "\n".join(lines)
 
 
 if __name__ == "__main__":

@@ -9,17 +9,28 @@ deployed length and tow-point tension beside
   same water (see ``TOWED_CASE`` below),
 
 with percent errors, then the timings of one ``khan2023`` pass and one ``steady_state`` solve at
-N = 200. Nothing here is tuned to the paper's numbers.
+N = 200 (from the benchmark's JSON, ``docs/bench/bench_quasistatic.json``). Nothing here is tuned
+to the paper's numbers.
 
-    python scripts/reproduce_khan2023.py [--out docs/khan2023_reproduction.md] [--quick]
+    python scripts/reproduce_khan2023.py            # every row: docs/reproductions/khan2023.json, then the page
+    python scripts/reproduce_khan2023.py --render   # no computation: the page from the committed JSON
+    python scripts/reproduce_khan2023.py --json [--quick]   # print the result; --quick: one row a table, writes nothing
+
+Every number the script computes sits in the page in a marker,
+``<!--repro:khan2023.KEY:FORMAT-->text<!--/repro-->`` (the syntax of ``scripts/make_bench_docs.py``'s
+``bench`` markers, read from ``docs/reproductions/``), which ``tests/papers/test_reproduction_docs.py``
+checks against the JSON, ``{"result": ..., "measured": {date, command, commit, wall time, machine,
+versions}}`` as benchmark JSON is.
 """
 
 from __future__ import annotations
 
 import argparse
+import json
 import math
 import statistics
 import sys
+import time
 from pathlib import Path
 
 import numpy as np
@@ -28,6 +39,13 @@ from scipy.optimize import brentq
 import mjtether as mt
 from mjtether.quasistatic import khan2023, steady_state
 
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT / "scripts"))
+import make_bench_docs as mbd  # noqa: E402  (the marker syntax, the JSON lookup, the machine block)
+
+NAME = "khan2023"  # docs/reproductions/khan2023.json
+REPRO_DIR = ROOT / "docs" / "reproductions"
+DOC = ROOT / "docs" / "khan2023_reproduction.md"
 KN = mt.KNOT
 DECAY = 55.0 / math.log(100.0)  # m: the exponential current is 1 % of its surface value at 55 m
 
@@ -78,6 +96,7 @@ def water(p, heading=0.0):
 
 
 def run_khan(p, variant):
+    """khan2023 on row ``p``: (deployed length m, tow tension N, depth reached m or None, error text)."""
     kw = dict(diameter=p["d"], cable_density=p["rho_c"], water=water(p), robot_speed=p["vr"] * KN,
               variant=variant)
     try:
@@ -86,13 +105,13 @@ def run_khan(p, variant):
         else:
             r = khan2023(depth=p["depth"], **kw)
     except (ValueError, RuntimeError) as e:
-        return None, None, str(e)
-    note = f"depth reached {r.depth:.0f} m" if p["length"] is not None else ""
-    return r.length, r.tow_tension, note
+        return None, None, None, str(e)
+    return r.length, r.tow_tension, (r.depth if p["length"] is not None else None), ""
 
 
 def run_towed(p, L, N=200):
-    """The towed steady state of TOWED_CASE: (tow tension N, note)."""
+    """The towed steady state of TOWED_CASE: a dict of the tow tension (N), the ship's lead (m),
+    the top tension (N) and the cable's lift on the walker (N), or of an error text."""
     D = p["depth"]
     w = water(p, heading=math.pi)  # head current: flowing towards -x, the walker moves towards +x
     tet = mt.TetherSpec(length=L, segments=N, diameter=p["d"], density=p["rho_c"], cd_normal=1.0,
@@ -109,97 +128,181 @@ def run_towed(p, L, N=200):
     while solve(hi).nodes[-1, 2] > -D:
         hi += math.log(4.0)
         if hi > math.log(1e8):
-            return None, f"does not reach {D:g} m"
+            return {"steady_T_N": None, "steady_error": f"does not reach {D:g} m"}
     log_t = brentq(lambda x: solve(x).nodes[-1, 2] + D, lo, hi, xtol=1e-10)
     ss = solve(log_t)
-    return ss.tow_tension, (f"ship {ss.nodes[-1, 0]:.0f} m behind, top tension {ss.top_tension:.0f} N, "
-                            f"cable lifts the walker by {ss.bottom_force[2]:.0f} N")
+    return {"steady_T_N": float(ss.tow_tension), "steady_ship_behind_m": float(ss.nodes[-1, 0]),
+            "steady_top_tension_N": float(ss.top_tension), "steady_lift_N": float(ss.bottom_force[2])}
 
 
 def pct(model, paper):
     return None if model is None else 100.0 * (model - paper) / paper
 
 
-def fmt(x, nd=0):
-    return "n/a" if x is None else f"{x:,.{nd}f}"
+def table_row(tab, label, L, T, p) -> dict:
+    """One table row: the paper's numbers, each model's and their errors in % (None: no answer)."""
+    row = {"table": tab, "case": label, "paper_L_m": float(L), "paper_T_N": float(T)}
+    for variant in ("printed", "consistent"):
+        Lv, Tv, depth, err = run_khan(p, variant)
+        row.update({f"{variant}_L_m": Lv, f"{variant}_T_N": Tv, f"{variant}_L_pct": pct(Lv, L),
+                    f"{variant}_T_pct": pct(Tv, T), f"{variant}_depth_m": depth, f"{variant}_error": err})
+    row.update(run_towed(p, L))
+    row["steady_T_pct"] = pct(row["steady_T_N"], T)
+    return row
 
 
-def fmt_pct(x):
-    return "n/a" if x is None else f"{x:+.0f} %"
+def summarise(table: list[dict]) -> dict:
+    """Median and largest |error| (%) of each model's tension over all rows and of its length over
+    the rows where the length is found (all but Table 6), and the rows within 10 % in tension."""
+    def stats(key, rows):
+        vals = [abs(r[key]) for r in rows if r[key] is not None]
+        return {"median": statistics.median(vals) if vals else None, "max": max(vals) if vals else None,
+                "rows": len(vals)}
+
+    depth_rows = [r for r in table if r["table"] != "6"]
+    out = {"rows": len(table)}
+    for name in ("printed", "consistent", "steady"):
+        out[f"{name}_T_pct"] = stats(f"{name}_T_pct", table)
+        out[f"{name}_within_10pct"] = sum(1 for r in table if r[f"{name}_T_pct"] is not None
+                                          and abs(r[f"{name}_T_pct"]) <= 10)
+    for name in ("printed", "consistent"):
+        out[f"{name}_L_pct"] = stats(f"{name}_L_pct", depth_rows)
+    for key in ("steady_ship_behind_m", "steady_lift_N"):
+        vals = [r[key] for r in table if r.get(key) is not None]
+        out[key] = {"min": min(vals), "max": max(vals)}
+    return out
 
 
-PERF = ("Timings (`python scripts/bench_quasistatic.py`, `docs/bench/bench_quasistatic.json`, measured on "
-        "<!--bench:bench_quasistatic@date--><!--/bench--> on a shared "
-        "<!--bench:bench_quasistatic@machine.cpu_count--><!--/bench-->-core machine): one khan2023 pass at "
-        "N = 200: <!--bench:bench_quasistatic.khan2023_pass_ms_N200:.1f--><!--/bench--> ms; one steady_state "
-        "solve at N = 200 (3-D, turning current): "
-        "<!--bench:bench_quasistatic.steady_state_ms_N200_3d_turning_current:.0f--><!--/bench--> ms.")
-"""The timings line of the report: markers that ``scripts/make_bench_docs.py`` fills from the
-benchmark's committed JSON (this script measures nothing)."""
+def inputs() -> dict:
+    """Derived numbers the page's prose quotes, from the common case (Table 1)."""
+    p = rows()[0][4]
+    area = math.pi * p["d"] ** 2 / 4
+    return {"drag_N_per_m_at_walker_speed": 0.5 * 1025.0 * 1.0 * p["d"] * (p["vr"] * KN) ** 2,
+            "largest_wet_weight_N_per_m": (p["rho_c"] - 980.0) * 9.8 * area,
+            "walker_speed_kn": p["vr"], "diameter_mm": p["d"] * 1000, "cable_density_kg_m3": p["rho_c"]}
+
+
+def measured(command: str, wall_s: float) -> dict:
+    """Where and when the numbers were made: the ``measured`` block of make_bench_docs.py."""
+    import datetime
+    import importlib.metadata
+    import os
+    import platform
+
+    return {"date": datetime.date.today().isoformat(), "command": command, "commit": mbd._commit(),
+            "wall_s": round(wall_s, 1),
+            "machine": {"platform": platform.platform(), "cpu": mbd._cpu_model(), "cpu_count": os.cpu_count()},
+            "python": platform.python_version(), "mujoco": importlib.metadata.version("mujoco"),
+            "mjtether": importlib.metadata.version("mjtether")}
 
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--out", default=str(Path(__file__).resolve().parents[1] / "docs" / "khan2023_reproduction.md"))
-    ap.add_argument("--quick", action="store_true", help="only the first row of each table")
+    ap.add_argument("--out", default=str(DOC))
+    ap.add_argument("--quick", action="store_true", help="only the first row of each table; writes nothing")
+    ap.add_argument("--json", action="store_true", help="print the result as JSON")
+    ap.add_argument("--render", action="store_true", help="no computation: write the page from the committed JSON")
     args = ap.parse_args(argv)
+    if args.render:
+        Path(args.out).write_text(render())
+        print(f"wrote {args.out} from docs/reproductions/{NAME}.json")
+        return 0
 
-    table = []
-    seen = set()
+    t0 = time.perf_counter()
+    table, seen = [], set()
     for tab, label, L, T, p in rows():
         if args.quick and tab in seen:
             continue
         seen.add(tab)
-        Lp, Tp, np_ = run_khan(p, "printed")
-        Lc, Tc, nc = run_khan(p, "consistent")
-        Ts, ns = run_towed(p, L)
-        line = dict(tab=tab, label=label, L=L, T=T, Lp=Lp, Tp=Tp, Lc=Lc, Tc=Tc, Ts=Ts,
-                    notes="; ".join(x for x in (f"printed: {np_}" if np_ else "", f"consistent: {nc}" if nc else "",
-                                                f"steady: {ns}") if x))
-        table.append(line)
-        print(f"Table {tab} | {label:38s} | paper {L:5.0f} m {T:6.0f} N | printed {fmt(Lp):>7} m {fmt(Tp):>7} N"
-              f" | consistent {fmt(Lc):>7} m {fmt(Tc):>7} N | steady {fmt(Ts):>7} N | {ns}", flush=True)
-
-    def med(key_model, key_paper):
-        vals = [abs(pct(r[key_model], r[key_paper])) for r in table if r[key_model] is not None]
-        return (statistics.median(vals), max(vals), len(vals)) if vals else (math.nan, math.nan, 0)
-
-    depth_rows = [r for r in table if r["tab"] != "6"]
-    stats = {}
-    for name, kl, kt in (("printed", "Lp", "Tp"), ("consistent", "Lc", "Tc"), ("steady_state", None, "Ts")):
-        s = {"T": med(kt, "T")}
-        if kl:
-            vals = [abs(pct(r[kl], r["L"])) for r in depth_rows if r[kl] is not None]
-            s["L"] = (statistics.median(vals), max(vals), len(vals)) if vals else (math.nan, math.nan, 0)
-        stats[name] = s
-    within10 = {name: sum(1 for r in table if r[k] is not None and abs(pct(r[k], r["T"])) <= 10)
-                for name, k in (("printed", "Tp"), ("consistent", "Tc"), ("steady_state", "Ts"))}
-    summary = (f"Summary: over {len(table)} rows the median |error| in tow tension is "
-               f"{stats['printed']['T'][0]:.0f} % (printed), {stats['consistent']['T'][0]:.0f} % (consistent), "
-               f"{stats['steady_state']['T'][0]:.0f} % (towed steady state); in deployed length "
-               f"{stats['printed']['L'][0]:.0f} % (printed) and {stats['consistent']['L'][0]:.0f} % (consistent). "
-               f"Rows with the tension within 10 %: {within10['printed']} printed, {within10['consistent']} "
-               f"consistent, {within10['steady_state']} steady state.")
-    print(summary)
-    if not args.quick:
-        write_report(Path(args.out), table, summary, PERF)
-        sys.path.insert(0, str(Path(__file__).resolve().parent))
-        from make_bench_docs import rewrite
-
-        rewrite([Path(args.out)])  # the timings, from docs/bench/bench_quasistatic.json
-        print(f"wrote {args.out}")
+        r = table_row(tab, label, L, T, p)
+        table.append(r)
+        if not args.json:
+            print(f"Table {tab} | {label:38s} | paper {L:5.0f} m {T:6.0f} N | printed {fmt(r['printed_L_m'])} m "
+                  f"{fmt(r['printed_T_N'])} N | consistent {fmt(r['consistent_L_m'])} m {fmt(r['consistent_T_N'])} N "
+                  f"| steady {fmt(r['steady_T_N'])} N", flush=True)
+    result = {"rows": table, "summary": summarise(table), "inputs": inputs()}
+    wall = time.perf_counter() - t0
+    if args.json:
+        print(json.dumps(result, indent=1))
+    if args.quick:
+        return 0
+    REPRO_DIR.mkdir(parents=True, exist_ok=True)
+    cmd = "python scripts/reproduce_khan2023.py" + (" --json" if args.json else "")
+    (REPRO_DIR / f"{NAME}.json").write_text(json.dumps({"result": result, "measured": measured(cmd, wall)},
+                                                       indent=1) + "\n")
+    Path(args.out).write_text(render())
+    print(f"wrote docs/reproductions/{NAME}.json ({wall:.0f} s) and {args.out}",
+          file=sys.stderr if args.json else sys.stdout)
     return 0
 
 
-def write_report(path: Path, table, summary, perf):
+def fmt(x, nd=0):
+    return "n/a" if x is None else f"{x:,.{nd}f}"
+
+
+def marker(key: str, fmt: str = "", repro_dir: Path = REPRO_DIR) -> str:
+    """``key`` of the result (``@key``: of the measured block) as a marker holding its text; a
+    missing answer (null) is ``n/a``, outside a marker."""
+    ref = f"{NAME}{'' if key.startswith('@') else '.'}{key}" + (f":{fmt}" if fmt else "")
+    try:
+        return f"<!--repro:{ref}-->{mbd.value_of(ref, repro_dir)}<!--/repro-->"
+    except ValueError:
+        obj = json.loads((repro_dir / f"{NAME}.json").read_text())["result"]
+        for part in key.split("."):
+            obj = obj[int(part)] if isinstance(obj, list) else obj[part]
+        if obj is None:
+            return "n/a"
+        raise
+
+
+PERF = ("Timings (`python scripts/bench_quasistatic.py`, `docs/bench/bench_quasistatic.json`, measured on "
+        "<!--bench:bench_quasistatic@date--><!--/bench--> on a shared "
+        "<!--bench:bench_quasistatic@machine.cpu_count--><!--/bench-->-core machine): one khan2023 pass down "
+        "the cable at N = 200: <!--bench:bench_quasistatic.khan2023_pass_ms_N200:.1f--><!--/bench--> ms; a whole "
+        "`khan2023(...)` call, many passes: given the length (2260 m) "
+        "<!--bench:bench_quasistatic.khan2023_call_ms_N200_length2260:.0f--><!--/bench--> ms, given a depth "
+        "(500 m, as the tables are) <!--bench:bench_quasistatic.khan2023_call_s_N200_depth500:.1f--><!--/bench--> s; "
+        "one steady_state solve at N = 200 (3-D, turning current): "
+        "<!--bench:bench_quasistatic.steady_state_ms_N200_3d_turning_current:.0f--><!--/bench--> ms.")
+"""The timings line of the page: markers filled from the benchmark's committed JSON
+(``docs/bench/bench_quasistatic.json``, which ``scripts/make_bench_docs.py`` checks); this script
+times nothing but its own run (the ``measured`` block)."""
+
+
+def _fill_bench(text: str) -> str:
+    return mbd.MARKER.sub(lambda x: f"<!--bench:{x['ref']}-->{mbd.value_of(x['ref'])}<!--/bench-->", text)
+
+
+def render(repro_dir: Path = REPRO_DIR) -> str:
+    """``docs/khan2023_reproduction.md`` from ``docs/reproductions/khan2023.json``: every number
+    the script computes a marker (no computation)."""
+    res = json.loads((repro_dir / f"{NAME}.json").read_text())["result"]
+
+    def m(key, fmt=""):
+        return marker(key, fmt, repro_dir)
+
+    def cell(k, model, q, unit_fmt=",.0f"):
+        base = f"rows.{k}.{model}_{q}"
+        val = m(base + ("_m" if q == "L" else "_N"), unit_fmt)
+        return val if val == "n/a" else f"{val} ({m(base + '_pct', '+.0f')} %)"
+
+    s = "summary"
+    summary = (f"Summary: over {m(s + '.rows')} rows the median |error| in tow tension is "
+               f"{m(s + '.printed_T_pct.median', '.0f')} % (printed), {m(s + '.consistent_T_pct.median', '.0f')} % "
+               f"(consistent), {m(s + '.steady_T_pct.median', '.0f')} % (towed steady state); in deployed length "
+               f"{m(s + '.printed_L_pct.median', '.0f')} % (printed) and {m(s + '.consistent_L_pct.median', '.0f')} % "
+               f"(consistent). Rows with the tension within 10 %: {m(s + '.printed_within_10pct')} printed, "
+               f"{m(s + '.consistent_within_10pct')} consistent, {m(s + '.steady_within_10pct')} steady state.")
     lines = [
         "# Reproducing Khan et al. (2023), Tables 2-8",
         "",
-        "Generated by `python scripts/reproduce_khan2023.py`; do not edit by hand.",
+        "Generated by `python scripts/reproduce_khan2023.py` from `docs/reproductions/khan2023.json` "
+        f"(made on {m('@date')} at {m('@commit')} in {m('@wall_s', '.0f')} s on a "
+        f"{m('@machine.cpu_count')}-core machine); do not edit by hand.",
         "",
         summary,
         "",
-        perf,
+        _fill_bench(PERF),
         "",
         "Lengths are the deployed length needed for the cable's end to reach the seabed depth",
         "(Table 6 gives the length; the tension there is at that length). Tensions are at the tow point.",
@@ -209,17 +312,35 @@ def write_report(path: Path, table, summary, perf):
         "| steady T | notes |",
         "|---|---|---|---|---|---|---|---|---|---|",
     ]
-    for r in table:
+    for k, r in enumerate(res["rows"]):
+        notes = []
+        for variant in ("printed", "consistent"):
+            if r[f"{variant}_error"]:
+                notes.append(f"{variant}: no answer")
+            elif r[f"{variant}_depth_m"] is not None:
+                notes.append(f"{variant}: depth reached {m(f'rows.{k}.{variant}_depth_m', '.0f')} m")
+        if r["steady_T_N"] is None:
+            notes.append(f"steady: {r['steady_error']}")
+        else:
+            notes.append(f"steady: ship {m(f'rows.{k}.steady_ship_behind_m', '.0f')} m behind, top tension "
+                         f"{m(f'rows.{k}.steady_top_tension_N', '.0f')} N, cable lifts the walker by "
+                         f"{m(f'rows.{k}.steady_lift_N', '.0f')} N")
         lines.append(
-            f"| {r['tab']} | {r['label']} | {r['L']:,.0f} | {r['T']:,.0f} "
-            f"| {fmt(r['Lp'])} ({fmt_pct(pct(r['Lp'], r['L']))}) | {fmt(r['Tp'])} ({fmt_pct(pct(r['Tp'], r['T']))}) "
-            f"| {fmt(r['Lc'])} ({fmt_pct(pct(r['Lc'], r['L']))}) | {fmt(r['Tc'])} ({fmt_pct(pct(r['Tc'], r['T']))}) "
-            f"| {fmt(r['Ts'])} ({fmt_pct(pct(r['Ts'], r['T']))}) | {r['notes']} |")
-    lines += ["", "## How each column was computed", "", CASE_NOTES, "", TOWED_CASE, "", INCONSISTENCIES, ""]
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_suffix(".tmp")
-    tmp.write_text("\n".join(lines))
-    tmp.replace(path)
+            f"| {m(f'rows.{k}.table')} | {m(f'rows.{k}.case')} | {m(f'rows.{k}.paper_L_m', ',.0f')} "
+            f"| {m(f'rows.{k}.paper_T_N', ',.0f')} | {cell(k, 'printed', 'L')} | {cell(k, 'printed', 'T')} "
+            f"| {cell(k, 'consistent', 'L')} | {cell(k, 'consistent', 'T')} | {cell(k, 'steady', 'T')} "
+            f"| {'; '.join(notes)} |")
+    i = "inputs"
+    why = WHY.format(
+        drag=m(i + ".drag_N_per_m_at_walker_speed", ".1f"), vr=m(i + ".walker_speed_kn", "g"),
+        d=m(i + ".diameter_mm", "g"), rho=m(i + ".cable_density_kg_m3", "g"),
+        wet=m(i + ".largest_wet_weight_N_per_m", ".2f"),
+        lead_lo=m(s + ".steady_ship_behind_m.min", ".0f"), lead_hi=m(s + ".steady_ship_behind_m.max", ".0f"),
+        lift_lo=m(s + ".steady_lift_N.min", ".0f"), lift_hi=m(s + ".steady_lift_N.max", ".0f"),
+        cons_L=m(s + ".consistent_L_pct.median", ".0f"))
+    lines += ["", "## How each column was computed", "", CASE_NOTES, "", TOWED_CASE, "", INCONSISTENCIES, "",
+              why, ""]
+    return "\n".join(lines)
 
 
 CASE_NOTES = """\
@@ -267,25 +388,26 @@ INCONSISTENCIES = """\
 * Table 8's caption says "TC Density"; the table is about water depth. Table 1 calls C_da the
   "cross" drag coefficient; it is the axial one (Eq. 12).
 * Sec. 4.7 reports a "time step of 20 s" for a method with no time in it; the 180 m of payout in
-  3 min matches Eq. 32 at 2 kn (185 m).
+  3 min matches Eq. 32 at 2 kn (185 m)."""
 
+WHY = """\
 ## Why the towed steady state is so different
 
 In the towed state every element moves at v_r, while Eq. 5 gives the upper half of the cable less
-than half of it; and Morison drag on the relative velocity, ~ 1/2 rho C_dn d V^2 = 10.9 N/m at
-2 kn across the cable, is far larger than the wet weight of a 20 mm cable of density
-1025 kg/m^3 in water of 1025-980 kg/m^3 (at most 0.14 N/m). The cable streams almost
-horizontally from the ship to the walker (1.6-2.5 km ahead of the ship in every row), the
-tension is carried by drag, not weight, and the cable even lifts the walker (by 76 N to
-1.6 kN). With the top angle held at 30 degrees a longer cable reaches the seabed with less top
+than half of it; and Morison drag on the relative velocity, ~ 1/2 rho C_dn d V^2 = {drag} N/m at
+{vr} kn across the cable, is far larger than the wet weight of a {d} mm cable of density
+{rho} kg/m^3 in water of 1025-980 kg/m^3 (at most {wet} N/m). The cable streams almost
+horizontally from the ship to the walker ({lead_lo} m to {lead_hi} m ahead of the ship in every row),
+the tension is carried by drag, not weight, and the cable even lifts the walker (by {lift_lo} N to
+{lift_hi} N). With the top angle held at 30 degrees a longer cable reaches the seabed with less top
 tension, so in Table 6 the towed tension falls slowly as L grows, the opposite of the paper's
 trend.
 
-The consistent variant finds deployed lengths close to the paper's (median 5 %) but tensions
+The consistent variant finds deployed lengths close to the paper's (median {cons_L} %) but tensions
 about a third lower; the printed variant finds half the length and three times the tension.
 Neither agreement nor disagreement validates the paper: both variants share Eq. 18's doubled
 drag rotation, its upward weight and Eq. 5's velocity field."""
-
+"""The last section of the page; the fields are markers (``render``)."""
 
 if __name__ == "__main__":
     sys.exit(main())

@@ -170,3 +170,53 @@ def test_solve_on_an_inextensible_tether_that_just_cannot_reach_says_so_in_one_l
     err = capsys.readouterr().err
     assert "tether.length = 100 m: too short for its ends" in err and "settle" not in err
     assert "Traceback" not in err and not (tmp_path / "res").exists()
+
+
+# ------------------------------------------------------------------ the closing line and --help (issue 44)
+
+
+def test_the_simulated_time_is_the_duration_asked_to_a_whole_step():
+    """``cli.simulated``: 10 s asked at the 2.4 ms step of a network is run as 4167 steps,
+    10.0008 s, and printed as the 10 s asked (the run ends at the step nearest to it); a run
+    that stops short (a watch) or a duration under one step prints what it ran and what was
+    asked."""
+    dt = 0.0024
+    assert cli.simulated(10.0, round(10.0 / dt) * dt, dt) == "10 s"
+    assert cli.simulated(2.5, 500 * 0.005, 0.005) == "2.5 s"
+    assert cli.simulated(10.0, 4.2, 0.005) == "4.2 s (of 10 s asked)"
+    assert cli.simulated(0.001, 0.005, 0.005) == "0.005 s (of 0.001 s asked)"
+
+
+def test_a_network_run_prints_the_duration_asked(tmp_path, capsys):
+    """moored_buoy_body for 1 s runs 417 steps of 2.4 ms (1.0008 s: its step does not divide 1 s)
+    and says "1 s simulated", not "1.0008 s"; the step is printed beside it."""
+    assert cli.main(["run", "networks/moored_buoy_body", "--set", "simulation.duration=1", "--out",
+                     str(tmp_path / "net"), "--no-plots"]) == 0
+    line = capsys.readouterr().out.strip().splitlines()[-1]
+    assert line.startswith("1 s simulated (3 lines, step 0.0024 s)"), line
+
+
+def test_a_scenario_run_prints_the_duration_asked(tmp_path, capsys):
+    """0.75 s asked at 5 ms steps (150 of them) prints "0.75 s simulated", where the old
+    ``:.0f`` printed "1 s"."""
+    assert cli.main(["run", str(_scenario(tmp_path, 0.75)), "--out", str(tmp_path / "res"), "--no-plots"]) == 0
+    assert capsys.readouterr().out.strip().splitlines()[-1].startswith("0.75 s simulated in ")
+
+
+@pytest.mark.parametrize("command", ["run", "render", "solve", "sweep"])
+def test_help_says_a_shipped_examples_name_works_and_lists_them(command, capsys):
+    """``run --help`` (and render, solve, sweep) says that a shipped example's name works and
+    lists every one, each a name ``_load`` takes (``packagedata.shipped_example`` finds it); the
+    list is read here from the examples folder itself."""
+    from mjtether.files.packagedata import examples_dir, shipped_example
+
+    with pytest.raises(SystemExit):
+        cli.main([command, "--help"])
+    text = " ".join(capsys.readouterr().out.split())
+    assert "shipped example's name" in text
+    listed = text.split("mjtether run default_walker`; the files are in ")[1].split("): ", 1)[1]
+    names = [n.strip() for n in listed.split(",")]
+    folder = examples_dir()
+    expected = sorted(str(p.relative_to(folder))[:-len(".toml")] for p in folder.glob("**/*.toml"))
+    assert names == expected and "default_walker" in names and "networks/rov_cage_excursion" in names
+    assert all(shipped_example(n) is not None for n in names)

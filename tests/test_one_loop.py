@@ -127,9 +127,10 @@ def test_both_systems_write_the_same_folder(tmp_path):
     a = results.write(tmp_path / "scenario", sc, *run(sc))
     b = tmp_path / "network"
     nrun.run_to(from_dict(NET), b)
-    common = {"timeseries.csv", "lines.npz", "summary.json", "tension.png", "profile.png", "mjtether-manifest.json"}
+    common = {"timeseries.csv", "lines.npz", "summary.json", "tension.png", "profile.png", "line_tension.png",
+              "mjtether-manifest.json"}
     assert {p.name for p in b.iterdir()} == common
-    assert {p.name for p in a.iterdir()} == common | {"track.png"}  # (the ship's and robot's tracks)
+    assert {p.name for p in a.iterdir()} == common  # (track.png only for a run without a tether)
     with np.load(a / "lines.npz") as za, np.load(b / "lines.npz") as zb:
         ka, kb = _keys_pattern(za.files), _keys_pattern(zb.files)
     assert set(kb) == {"time_s", "lineNAME", "lineNAME_nodes", "lineNAME_tension", "lineNAME_compression",

@@ -26,7 +26,11 @@ def test_wheel_contains_the_runtime_files(tmp_path):
                  "mjtether/scenarios/default.toml", "mjtether/envs/__init__.py", "mjtether/io/mjlog.py",
                  "mjtether/cable/linetypes.toml", "mjtether/cable/bound.py", "mjtether/sweep/execute.py",
                  "mjtether/examples/default_walker.toml", "mjtether/examples/seabed_patch.csv",
-                 "mjtether/examples/networks/rov_cage_excursion.toml"):
+                 "mjtether/examples/networks/rov_cage_excursion.toml", "mjtether/cli/__init__.py",
+                 "mjtether/io/report_page/run.html", "mjtether/io/report_page/sweep.html",
+                 "mjtether/io/report_page/report.js", "mjtether/io/report_page/report.css",
+                 "mjtether/io/report_page/vendor/three.module.min.js",
+                 "mjtether/io/report_page/vendor/OrbitControls.js", "mjtether/io/report_page/vendor/LICENSE"):
         assert need in names, f"{need} is not in {wheel.name}"
     # the fixed top-level folders (assets/, envs/, tests/...) only ship under mjtether/
     stray = sorted(n for n in names if not n.startswith(("mjtether/", "mjtether-")))

@@ -16,6 +16,7 @@ import os
 import re
 import subprocess
 import sys
+import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -147,3 +148,18 @@ def test_a_shipped_example_runs_by_name_from_anywhere(tmp_path, monkeypatch, cap
     assert capsys.readouterr().out.startswith("steady state of")
     net = moordyn.load_any("networks/rov_cage_excursion")
     assert "rov" in net.vehicles
+
+
+def test_the_readme_says_what_its_test_command_runs():
+    """README.md's account of `python -m pytest -q` quotes pyproject.toml's pytest options as they
+    are (the `-n auto` a reader gets without typing it), and the marker, the options and the file
+    it tells a reader to use exist."""
+    readme = README.read_text()
+    opts = tomllib.loads((ROOT / "pyproject.toml").read_text())["tool"]["pytest"]["ini_options"]
+    section = readme[readme.index("## Set-up (two commands)"):readme.index("\n## ", readme.index("## Set-up") + 1)]
+    assert f'`addopts = "{opts["addopts"]}"`' in section
+    assert "-n auto" in opts["addopts"] and "pytest-xdist" in section  # (the README explains -n auto)
+    assert any(m.split(":")[0].strip() == "slow" for m in opts["markers"]) and '-m "not slow"' in section
+    for path in re.findall(r"`python -m pytest -q -n 0 (tests/\S+\.py)`", section):
+        assert (ROOT / path).is_file(), path
+    assert re.search(r"`python -m pytest -q -n 0 tests/\S+\.py`", section)

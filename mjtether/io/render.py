@@ -5,8 +5,9 @@ No display is needed: the OpenGL context is EGL (Mesa's EGL also runs on a CPU-o
 or OSMesa if EGL is missing; ``MUJOCO_GL`` picks one explicitly. Each frame shows the model as
 built (seabed, ship, walker), and, drawn into the scene for the frame only:
 
-* the tether as capsules coloured by each element's axial tension on a fixed scale (0 to
-  ``tension_scale`` N, blue (slack) to red, the ``turbo`` colour map);
+* the tether as capsules coloured by each element's axial tension on a scale fixed for the video
+  (0 to ``tension_scale`` N, blue (slack) to red, the ``turbo`` colour map), by default from the
+  run's own tensions (``ScenarioView.default_scale``), not the rated load;
 * the water surface as a translucent plane at z = 0;
 * current arrows at a few depths (length proportional to speed, stated in the overlay);
 * a text overlay (time, tow tension, ship-end tension, deployed length, the cable's clearance from a
@@ -139,8 +140,11 @@ def _gl_context(width: int, height: int):
 class VideoSettings:
     """What to render. ``tuned`` visuals (no shadows, reflections or anti-aliasing, coarser
     capsules) render several times faster on a CPU than MuJoCo's defaults. ``tension_scale``
-    (N) is the top of the colour scale; by default the tether's rated load if it has one, else
-    twice the highest element tension at the start, rounded up to 1, 2 or 5 x 10^k."""
+    (N) is the top of the colour scale (``--tension-scale``); by default (None) the view's
+    ``default_scale``, from the run's own tensions: a replay's largest element tension over the
+    whole run, a live video's twice the largest at the start, each rounded up to 1, 2 or 5 x 10^k
+    (the rated load is not used: often a line type's breaking load, 176.8 kN for a cable under
+    1 kN, it would draw every element dark blue; give it here to colour against it)."""
 
     width: int = 640
     height: int = 480
@@ -299,9 +303,13 @@ class ScenarioView(FrameView):
         return len(self.runner.named.tether_nodes)
 
     def default_scale(self) -> float:
-        rated = self.runner.sc.tether.rated_load
-        if math.isfinite(rated):
-            return float(rated)
+        """The top of the colour scale (N) from the run's own tensions: a replay of a results
+        folder (``replay.Replay``, whose ``saved.tension`` holds every sample) its largest
+        element tension over the run, a live run (whose future is unknown) twice the largest
+        now, at its start; rounded up to 1, 2 or 5 x 10^k, and at least 1 N."""
+        saved = getattr(self.runner, "saved", None)
+        if saved is not None and getattr(saved, "tension", None) is not None and np.size(saved.tension):
+            return nice_scale(max(float(np.max(saved.tension)), 1.0))
         t = self.runner.named.tether_tension
         return nice_scale(2.0 * max(float(t.max(initial=0.0)), 1.0))
 

@@ -6,8 +6,8 @@ Files (all SI units; ``docs/scenarios.md`` lists the CSV columns):
 
 * ``timeseries.csv``: one row per output sample, columns ``runner.RECORD_FIELDS`` named
   ``<name>_<unit>`` (without the tether's, ``readouts.TETHER_FIELDS``, for a vehicle run
-  without one, ``tether.attached = false``: then ``lines.npz`` has no line, and there is no ``tension.png``
-  nor ``profile.png`` either; without the tangle monitor's about a vehicle,
+  without one, ``tether.attached = false``: then ``lines.npz`` has no line, and there is no ``tension.png``,
+  ``line_tension.png`` nor ``profile.png`` either; without the tangle monitor's about a vehicle,
   ``readouts.VEHICLE_FIELDS``, for a run without a vehicle);
 * ``lines.npz`` (``io.lines_npz``, the layout every run writes, a network's too): the line
   ``tether`` from end A (the robot) to end B (the ship's drum): ``linetether_nodes`` (n, e+1, 3)
@@ -26,10 +26,15 @@ Files (all SI units; ``docs/scenarios.md`` lists the CSV columns):
   event, the worst ten, and DNV-RP-H103's slack criterion; ``scenario.recording.snap_report``)
   and (where drawn) ``plots``, the plots' file names;
 * ``tension.png`` (tensions at the ship end and the tow point, the snap loads, deployed length,
-  and in a sea state the wave elevation, the fairlead's heave and the compensator's), ``profile.png``
-  (side view x-z of tether snapshots with the water surface, the seabed as defined, sloped or not,
-  the ship and the robot; top view x-y with their tracks), ``track.png`` (plan view of the ship's
-  and the robot's tracks); see ``tension_figure``, ``profile_figure``, ``track_figure``;
+  and in a sea state the wave elevation, the fairlead's heave and the compensator's),
+  ``line_tension.png`` (the tension along the tether: each element's least, mean and largest
+  over the run against its arc length from end A, the robot, with ``tether.rated_load`` where it
+  is finite), ``profile.png`` (side view x-z of six snapshots coloured by time, to scale: equal
+  axes, or an inset to scale where the x extent is under 1 % of the z extent; the water surface,
+  the seabed as defined, sloped or not, the ship and the robot; top view x-y with their tracks);
+  a run without a tether ``track.png`` instead (plan view of the ship's and the robot's tracks:
+  with a tether the profile's top view draws the same tracks); see ``tension_figure``,
+  ``line_tension_figure``, ``profile_figure``, ``track_figure``;
 * ``mjtether-manifest.json``: the files above with sizes and SHA-256, written last: it marks the
   folder as an mjtether result, the only kind ``overwrite`` replaces.
 
@@ -47,6 +52,7 @@ from pathlib import Path
 import numpy as np
 
 from mjtether.cable.builder import seabed_height
+from mjtether.network.plots import draw_tension_along, tension_along
 from mjtether.files.outdir import Staging, check_target
 from mjtether.files.results_folder import jsonable as _jsonable
 from mjtether.files.results_folder import write_folder
@@ -133,7 +139,7 @@ def write(out, sc: dict, rows: np.ndarray, history: dict, info: dict, scenario_p
         return write_folder(stage, column_names(tethered, vehicle), rows[:, written(tethered, vehicle)], arrays,
                             summary(sc, rows, info, scenario_path),
                             plots=(lambda folder: _plots(folder, rows, history["nodes"], sc, tethered,
-                                                         info.get("snap_loads", {}).get("worst"))) if plots
+                                                         info.get("snap_loads", {}).get("worst"), arrays)) if plots
                             else None, extra_files=extra_files)
 
 
@@ -142,7 +148,15 @@ def write(out, sc: dict, rows: np.ndarray, history: dict, info: dict, scenario_p
 # towards +y, in degrees on every label. Each ``*_figure`` returns its matplotlib Figure (Agg
 # backend, nothing shown) so that it can be inspected; ``_plots`` saves and closes them. Artists a
 # test may look for carry a gid: "seabed", "surface", "ship", "robot", "ship_track",
-# "robot_track", "ship_start", "robot_start", "upslope".
+# "robot_track", "ship_start", "robot_start", "upslope", "snapshot" (each snapshot, side and top
+# view), "to_scale" (the side view's inset), "tension_min", "tension_mean", "tension_max",
+# "tension_peak", "rated_load" (``network.plots.draw_tension_along``).
+
+SNAPSHOT_COLOURS = "viridis"
+"""The colour map of the profile's snapshots over time (its first 90 %: its top is a pale yellow)."""
+INSET_BELOW = 0.01
+"""The side view is drawn to scale (equal axes) unless its x extent is below this fraction of its
+z extent; then it is stretched to fill its panel and an inset beside it draws it to scale."""
 
 _SHIP_MARKER = [(-1.0, 0.35), (1.0, 0.35), (0.65, -0.35), (-0.65, -0.35), (-1.0, 0.35)]
 """A hull in side view (deck wider than keel), centred on the fairlead; marker units."""
@@ -172,6 +186,19 @@ def _snapshot_times(rows: np.ndarray, nodes: np.ndarray) -> np.ndarray:
     otherwise (``runner.run(keep_nodes=False)``) those of the first samples only."""
     t = rows[:, 0]
     return t if len(nodes) == len(t) else t[:len(nodes)]
+
+
+def _time(t: float) -> str:
+    """A time (s) for a label: to 0.01 s, no trailing zeros."""
+    return f"{round(float(t), 2):g}"
+
+
+def _frame(ax, x0: float, x1: float, z0: float, z1: float) -> None:
+    """Autoscale ``ax`` to the box [x0, x1] x [z0, z1] (m, with matplotlib's margins) and not to
+    every artist on it (a seabed far below the cable stays out of view); an equal aspect
+    (``adjustable="datalim"``) may then widen either range to fill the panel."""
+    ax.dataLim.set_points(np.array([[x0, z0], [x1, z1]], dtype=float))
+    ax.autoscale_view()
 
 
 def _upslope(ax, sc) -> None:
@@ -245,18 +272,26 @@ def tension_figure(rows: np.ndarray, snaps: list | None = None):
 def profile_figure(rows: np.ndarray, nodes: np.ndarray, sc):
     """Snapshots of the tether: side view (x-z, m) and top view (x-y, m), world frame, z up,
     water surface at z = 0. ``nodes`` (samples, nodes, 3) m, from the ship end (first node: the
-    fairlead) to the robot end. The side view shows the water surface, the seabed as the
-    scenario defines it (sloped or not), and the ship and the robot at the last snapshot; the top
-    view the ship's and the robot's tracks and, on a sloped seabed, which way is upslope."""
+    fairlead) to the robot end. Up to six snapshots, coloured by their time (``SNAPSHOT_COLOURS``,
+    the times in s in the legend). The side view shows the water surface, the seabed as the
+    scenario defines it (sloped or not), and the ship and the robot at the last snapshot; it is
+    to scale (equal axes), or, where its x extent is under ``INSET_BELOW`` of its z extent (a
+    cable hanging nearly straight down), stretched along x with an inset to scale. The top view
+    (equal axes) shows the ship's and the robot's tracks and, on a sloped seabed, which way is
+    upslope."""
     plt = _pyplot()
+    from matplotlib import colormaps
+
     c = _columns(rows)
     nodes = np.asarray(nodes, dtype=float)
     times = _snapshot_times(rows, nodes)
     fig, (side, top) = plt.subplots(1, 2, figsize=(12, 5))
     fig.suptitle("Tether profile")
-    for i in _snapshot_indices(nodes):
-        side.plot(nodes[i, :, 0], nodes[i, :, 2], label=f"t = {times[i]:.0f} s")
-        top.plot(nodes[i, :, 0], nodes[i, :, 1])
+    shots = _snapshot_indices(nodes)
+    colours = colormaps[SNAPSHOT_COLOURS](np.linspace(0.0, 0.9, len(shots)))
+    for i, colour in zip(shots, colours):
+        side.plot(nodes[i, :, 0], nodes[i, :, 2], color=colour, gid="snapshot", label=f"t = {_time(times[i])} s")
+        top.plot(nodes[i, :, 0], nodes[i, :, 1], color=colour, gid="snapshot")
     last = nodes[-1]
     ship, robot = last[0], last[-1]
 
@@ -284,19 +319,54 @@ def profile_figure(rows: np.ndarray, nodes: np.ndarray, sc):
     if np.max(np.abs(hi - lo)) > 1e-3:
         side.fill_between(xs, np.minimum(lo, hi), np.maximum(lo, hi), color="saddlebrown", alpha=0.2, lw=0,
                           label=f"seabed for y in [{y_lo:.0f}, {y_hi:.0f}] m")
-    side.plot(xs, seabed, color="saddlebrown", lw=2, gid="seabed",
-              label=f"seabed at y = {y_ref:.1f} m" + (f" (slope {w.seabed_slope_deg:g}\N{DEGREE SIGN})"
+    # The frame: the cable (every snapshot, the ship and the robot), and the water surface and the
+    # seabed where they are within the cable's own size of it (a vehicle at 50 m in 1000 m of
+    # water is drawn, to scale, without the 950 m of water below it; the legend says so).
+    xz = np.vstack([nodes[..., [0, 2]].reshape(-1, 2), ship[[0, 2]], robot[[0, 2]]])
+    z_lo, z_hi = float(xz[:, 1].min()), float(xz[:, 1].max())
+    reach = max(x1 - x0, z_hi - z_lo, 1.0)
+    bed_lo = float(min(np.min(seabed), np.min(lo), np.min(hi)))
+    bed_hi = float(max(np.max(seabed), np.max(lo), np.max(hi)))
+    bed_shown = bed_hi >= z_lo - reach
+    if bed_shown:
+        z_lo = min(z_lo, bed_lo)
+    if z_hi >= -reach:
+        z_hi = max(z_hi, 0.0)
+    seabed_label = f"seabed at y = {y_ref:.1f} m" + (f" (slope {w.seabed_slope_deg:g}\N{DEGREE SIGN})"
                                                       if w.seabed_slope_deg else " (bathymetry grid)" if grid
-                                                      else ""))
-    side.axhline(0.0, color="steelblue", lw=1, gid="surface", label="water surface")
+                                                      else "")
+    if not bed_shown:
+        seabed_label += f", z = {bed_hi:.4g} m and below: out of view"
+    side.plot(xs, seabed, color="saddlebrown", lw=2, gid="seabed", label=seabed_label)
+    side.axhline(0.0, color="steelblue", lw=1, gid="surface", label="water surface" +
+                 ("" if z_hi >= 0.0 else ", z = 0: out of view"))
     side.plot([ship[0]], [ship[2]], marker=_SHIP_MARKER, ms=16, ls="none", color="0.3", gid="ship",
-              label=f"ship (fairlead, t = {times[-1]:.0f} s)")
+              label=f"ship (fairlead, t = {_time(times[-1])} s)")
     side.plot([robot[0]], [robot[2]], marker="D", ms=8, ls="none", color="darkorange", gid="robot",
-              label=f"robot (tow point, t = {times[-1]:.0f} s)")
-    side.set_title("Side view (x-z)")
+              label=f"robot (tow point, t = {_time(times[-1])} s)")
     side.set_xlabel("x (m)")
     side.set_ylabel("z, height above the water surface (m)")
-    side.legend(fontsize=7, loc="best")
+    if x1 - x0 < INSET_BELOW * (z_hi - z_lo):
+        # stretched along x (room kept on the right for the inset), and an inset to scale
+        side.set_title(f"Side view (x-z): x stretched (x extent {x1 - x0:.3g} m, z {z_hi - z_lo:.3g} m); "
+                       "inset to scale", fontsize=9)
+        _frame(side, x0, x1 + 0.45 * (x1 - x0 + 2 * pad), z_lo, z_hi)
+        inset = side.inset_axes([0.74, 0.06, 0.24, 0.86])
+        inset.set_gid("to_scale")
+        for i, colour in zip(shots, colours):
+            inset.plot(nodes[i, :, 0], nodes[i, :, 2], color=colour, lw=1)
+        inset.plot(xs, seabed, color="saddlebrown", lw=1.5)
+        inset.axhline(0.0, color="steelblue", lw=1)
+        _frame(inset, x0, x1, z_lo, z_hi)
+        inset.set_aspect("equal", adjustable="datalim")
+        inset.set_title("to scale", fontsize=7)
+        inset.tick_params(labelsize=6)
+        side.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.12), ncol=3)  # (clear of the inset)
+    else:
+        side.set_title("Side view (x-z), to scale")
+        _frame(side, x0, x1, z_lo, z_hi)
+        side.set_aspect("equal", adjustable="datalim")
+        side.legend(fontsize=7, loc="best")
 
     _tracks(top, c)
     _upslope(top, sc)
@@ -307,6 +377,28 @@ def profile_figure(rows: np.ndarray, nodes: np.ndarray, sc):
     top.legend(fontsize=7, loc="best")
     for a in (side, top):
         a.grid(alpha=0.3)
+    fig.tight_layout()
+    return fig
+
+
+def line_tension_figure(arrays: dict, sc):
+    """The tension along the tether (``network.plots.draw_tension_along``): each element's least,
+    mean and largest tension over the run (N) against the arc length of its centre from end A,
+    the robot (m), from the writer's ``lines.npz`` arrays (``arrays``: ``linetether_tension``
+    and ``linetether_element_length`` (samples, e), from end A; cable still on the drum, length 0,
+    is left out), with ``tether.rated_load`` where it is finite and, dotted, each element's
+    largest tension at any time step where that passes the samples' largest
+    (``linetether_peak_tension``)."""
+    plt = _pyplot()
+    key = f"line{lines_npz.TETHER}_"
+    along = tension_along(arrays[key + "tension"], arrays[key + "element_length"])
+    peak = arrays.get(key + "peak_tension")
+    fig, ax = plt.subplots(figsize=(8, 4.5))
+    fig.suptitle("Tension along the tether over the run")
+    draw_tension_along(ax, along, sc.tether.rated_load,
+                       None if peak is None else np.asarray(peak, float)[:, along["element"]].max(axis=0))
+    ax.set_title("Each element's least, mean and largest tension (end A: the robot; end B: the ship)", fontsize=9)
+    ax.set_xlabel("arc length from end A, the robot (m)")
     fig.tight_layout()
     return fig
 
@@ -330,16 +422,18 @@ def track_figure(rows: np.ndarray, sc):
 
 
 def _plots(folder: Path, rows: np.ndarray, nodes: np.ndarray, sc, tethered: bool = True,
-           snaps: list | None = None) -> list[str]:
-    """Write tension.png (``snaps``: the snap loads it marks), profile.png and track.png into
-    ``folder`` (track.png only for a run without a tether); returns the names of the files
-    written."""
+           snaps: list | None = None, arrays: dict | None = None) -> list[str]:
+    """Write the plots into ``folder``: with a tether tension.png (``snaps``: the snap loads it
+    marks), line_tension.png (from ``arrays``, the writer's ``lines.npz`` arrays) and profile.png;
+    without one track.png only (with one, profile.png's top view draws the same tracks). Returns
+    the names of the files written."""
     plt = _pyplot()
     figures = (("tension.png", lambda: tension_figure(rows, snaps)),
-               ("profile.png", lambda: profile_figure(rows, nodes, sc)),
-               ("track.png", lambda: track_figure(rows, sc)))
+               ("line_tension.png", lambda: line_tension_figure(arrays, sc)),
+               ("profile.png", lambda: profile_figure(rows, nodes, sc))) if tethered else \
+        (("track.png", lambda: track_figure(rows, sc)),)
     names = []
-    for name, make in figures if tethered else figures[2:]:
+    for name, make in figures:
         fig = make()
         try:
             fig.savefig(folder / name, dpi=110)

@@ -123,3 +123,56 @@ def mark_warm() -> None:
             marker.touch()
         except OSError:
             pass
+
+
+class CompileClock:
+    """The seconds a first run has spent compiling, shown on ``file`` (stderr) as they pass: one
+    line that a background thread redraws every ``every`` s (``desc: 12 s``), from ``start()``
+    to ``stop()``, which clears it and returns the seconds. The kernels are compiled as a run is
+    built, by numba, one inlined into the next; they cannot be counted one by one, so the clock
+    counts time, not kernels."""
+
+    def __init__(self, desc: str, file=None, every: float = 1.0):
+        import sys
+        import threading
+
+        self.desc, self.file, self.every = desc, file or sys.stderr, every
+        self._done = threading.Event()
+        self._thread = threading.Thread(target=self._tick, daemon=True)
+        self._t0 = None
+        self.seconds = None
+
+    def _line(self, elapsed: float) -> str:
+        return f"{self.desc}: {elapsed:.0f} s"
+
+    def _tick(self) -> None:
+        import time
+
+        while not self._done.wait(self.every):
+            self._show("\r" + self._line(time.perf_counter() - self._t0))
+
+    def _show(self, text: str) -> None:
+        try:
+            self.file.write(text)
+            self.file.flush()
+        except (OSError, ValueError):  # (a closed or broken stderr loses the clock, not the run)
+            pass
+
+    def start(self) -> CompileClock:
+        import time
+
+        self._t0 = time.perf_counter()
+        self._show(self._line(0.0))
+        self._thread.start()
+        return self
+
+    def stop(self) -> float:
+        """Stop the clock (again: no effect); the seconds from ``start``."""
+        import time
+
+        if self.seconds is None:
+            self.seconds = time.perf_counter() - self._t0
+            self._done.set()
+            self._thread.join()
+            self._show("\r" + " " * len(self._line(self.seconds)) + "\r")
+        return self.seconds

@@ -584,7 +584,7 @@ _state: dict[str, object] = {}
 def _link() -> None:
     """Once per process: find the struct offsets, make MuJoCo's library and ``_table`` known to
     the compiled code by name (so that it is cached on disk, and only the first run on a machine
-    compiles it, in about half a minute)."""
+    compiles it, in about a minute)."""
     if "registry getter" in _state:
         return
     offs = _offsets()

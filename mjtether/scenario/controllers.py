@@ -16,8 +16,8 @@ from dataclasses import dataclass, field
 
 import mujoco
 import numpy as np
-from scipy.optimize import lsq_linear
 
+from mjtether.vehicles.allocation import allocate
 from mjtether.vehicles.files import thrust_matrix
 from mjtether.walker import Tripod
 
@@ -217,8 +217,9 @@ see, and beyond which its integrals stop (conditional integration against wind-u
 heading or depth step is flown at the moment and force these give, not at one that saturates
 every thruster (a speed beyond the vehicle's is asked for in full: its thrusters saturate)."""
 MOMENT_WEIGHT = 10.0
-"""Weight (1/m) of the moments against the forces in the thrust allocation's least squares: when
-the thrusters cannot give everything, attitude is kept before a force is met."""
+"""Weight (1/m) of the moments against the forces in the thrust allocation's least squares (the
+least-thrust answer within the limits); where the thrusters cannot give everything, the moments
+come first (``vehicles.allocation.allocate``): attitude is kept before a force is met."""
 
 
 class Manoeuvre:
@@ -354,8 +355,9 @@ class VehiclePilot:
     heading error (PID, on the yaw rate), a world-vertical force from the depth error (PID, on
     the vertical speed), roll and pitch moments towards level (PD), each error clipped to
     ``PILOT_BANDS``; the wrench is met as closely as the thrusters' limits allow, moments first
-    (bounded least squares, scipy's ``lsq_linear``), each thruster's command being the thrust
-    wanted (N), which its actuator lags and clips."""
+    (``vehicles.allocation.allocate``: where a thruster saturates, the moments as closely as the
+    limits allow, then the forces with those moments held), each thruster's command being the
+    thrust wanted (N), which its actuator lags and clips."""
 
     def __init__(self, setpoints: np.ndarray, gains, thrusters, actuators: np.ndarray, route=None,
                  start=(0.0, 0.0), lookahead: float = 5.0, acceptance_radius: float = 2.0, fins=(),
@@ -517,13 +519,10 @@ class VehiclePilot:
             self._allocate(run.sim.data, *eff)
             if self.manoeuvre is not None:
                 self._manoeuvre(run, t, yaw)
-        elif self.B.shape[1]:
-            target = self._w * self.wrench
-            x = self._pinv @ target  # the least-squares answer of least thrust: if within the limits (the
-            # usual case), it solves the bounded problem too
-            if np.any(x < self.lo) or np.any(x > self.hi):
-                x = lsq_linear(self._WB, target, bounds=(self.lo, self.hi)).x
-            run.sim.data.ctrl[self.actuators] = x
+        elif self.B.shape[1]:  # the least-thrust answer where within the limits, else the moments first
+            # (method: lsq_linear's default, which thrusters alone have always been solved with)
+            run.sim.data.ctrl[self.actuators] = allocate(self.B, self.lo, self.hi, self.wrench, self._w, self._pinv,
+                                                         method="trf")
 
     def _effectors(self, run, vehicle, nu: np.ndarray, R: np.ndarray):
         """(B 6 x n, lower and upper limits, surge speed through the water m/s, rho kg/m^3): the
@@ -550,12 +549,9 @@ class VehiclePilot:
     def _allocate(self, data, B, lo, hi, u_r: float, rho: float) -> None:
         """Allocate ``wrench`` to thrusters, fins (angle, rad) and a propeller (thrust, turned
         into a shaft speed) with the columns of ``_effectors``: as for thrusters alone, the
-        least-squares answer of least effort where it is within the limits, else bounded least
-        squares."""
-        WB, target = self._w[:, None] * B, self._w * self.wrench
-        x = np.linalg.pinv(WB) @ target
-        if np.any(x < lo) or np.any(x > hi):  # bounded-variable least squares (exact, an active set)
-            x = lsq_linear(WB, target, bounds=(lo, hi), method="bvls").x
+        least-squares answer of least effort where it is within the limits, else the moments
+        first (``vehicles.allocation.allocate``)."""
+        x = allocate(B, lo, hi, self.wrench, self._w)
         n = self.B.shape[1]
         if n:
             data.ctrl[self.actuators] = x[:n]

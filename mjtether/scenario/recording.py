@@ -118,8 +118,11 @@ def run(sc: Scenario, progress=None, keep_nodes: bool = True, video=None, on_sta
     for the built run; frames are then taken as they fall due and the file is finished, or
     deleted if the run fails. ``on_start(runner)`` is called once the run is built and started,
     ``on_end(runner)`` after its last step (not if it fails), e.g. to read what the records do
-    not hold. Raises ``RunFailed`` or ``SimulationDiverged`` (a record that became non-finite
-    too)."""
+    not hold. ``info`` times the run in wall seconds: ``wall_time_s`` all of it (``realtime_factor``
+    its simulated seconds per wall second), ``start_s`` the building and starting (the force
+    kernels' compile on a first run too) and ``stepping_s`` the stepping and recording
+    (``stepping_realtime_factor``), apart. Raises ``RunFailed`` or ``SimulationDiverged`` (a
+    record that became non-finite too)."""
     dt = sc.simulation.timestep
     n_steps = int(round(sc.simulation.duration / dt))
     every = max(1, int(round(sc.simulation.output_interval / dt)))
@@ -151,9 +154,11 @@ def run(sc: Scenario, progress=None, keep_nodes: bool = True, video=None, on_sta
             for _ in range(k):
                 runner.step()
 
+        t1 = time.perf_counter()  # (built, started, and compiled on a first run: the stepping starts)
         rows, n_steps = drive(advance, n_steps, every, sample, clock=lambda: runner.sim.time, watches=watches,
                               video=rec, progress=progress, names=[name for name, _, _ in RECORD_FIELDS])
-        wall = time.perf_counter() - t0
+        t2 = time.perf_counter()
+        wall = t2 - t0
         if on_end is not None:
             on_end(runner)
         if rec is not None:
@@ -167,7 +172,9 @@ def run(sc: Scenario, progress=None, keep_nodes: bool = True, video=None, on_sta
     info = {"initial_state": runner.initial_note, "tethered": runner.tethered, "vehicle": bool(runner.named.hulls),
             "effective_EA": runner.effective_EA,
             "wall_time_s": wall, "simulated_s": n_steps * dt,
-            "realtime_factor": n_steps * dt / wall if wall > 0 else math.inf, "steps": n_steps}
+            "realtime_factor": n_steps * dt / wall if wall > 0 else math.inf, "steps": n_steps,
+            "start_s": t1 - t0, "stepping_s": t2 - t1,
+            "stepping_realtime_factor": n_steps * dt / (t2 - t1) if t2 > t1 else math.inf}
     if monitor is not None:
         info["tangle_events"] = monitor.events
         if monitor.stopped:

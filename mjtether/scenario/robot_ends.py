@@ -20,7 +20,7 @@ Units SI, world frame (z up, surface z = 0); headings in radians here (degrees i
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Callable
 
 import mujoco
@@ -188,8 +188,10 @@ class Vehicle(RobotEnd):
         self.spec = None  # its vehicle file (``vehicles.files.VehicleSpec``), loaded by ``add_to``
 
     def add_to(self, scene) -> None:
-        """Load its vehicle file (``scene.vehicle``) and build it at ``robot.position``."""
-        self.spec = scene.vehicle = load_vehicle(self.robot.vehicle)
+        """Load its vehicle file (``scene.vehicle``) and build it at ``robot.position``; moved along
+        ``robot.path``, its trim plays no part (no ``TrimDensityWarning``)."""
+        spec = load_vehicle(self.robot.vehicle)
+        self.spec = scene.vehicle = spec if self.robot.path is None else replace(spec, trimmed=False)
         scene.bodies.append(build_vehicle(scene.spec, self.spec, VEHICLE, pos=self.robot.position))
 
     def tow_point(self, scene=None, dt: float = 0.0, replay: bool = False) -> np.ndarray:

@@ -8,7 +8,10 @@ The file's tables (units SI; body frame x forward, y left, z up; see ``vehicle``
     [vehicle]      name, mass, inertia (3 principal moments, or 6: Ixx, Iyy, Izz, Ixy, Ixz, Iyz
                    of the matrix about the centre of gravity), centre_of_gravity, size (drawn
                    ellipsoid semi-axes), tow_point, water_density (kg/m^3: the water it is
-                   trimmed for, or identified in), sources (a table: parameter -> where it comes from)
+                   trimmed for, or identified in), trimmed (true, the default: trimmed for
+                   water_density, and built in water of another density it warns,
+                   ``vehicle.TrimDensityWarning``; false: water_density is only where it was
+                   identified), sources (a table: parameter -> where it comes from)
     [hydro]        volume (m^3, or "neutral": mass / water_density, exactly), centre_of_buoyancy,
                    added_mass, linear_damping, quadratic_damping, linear_damping_fade, coriolis_zeroed
     [hull]         length, diameter, axial_cd, crossflow_cd, reference_area, oswald, strips,
@@ -49,7 +52,8 @@ from .thruster import Thruster, add_thruster
 from .vehicle import Hull, Surface, VehicleHydro, VehicleModel, add_vehicle
 
 KEYS = {
-    "vehicle": {"name", "mass", "inertia", "centre_of_gravity", "size", "tow_point", "water_density", "sources"},
+    "vehicle": {"name", "mass", "inertia", "centre_of_gravity", "size", "tow_point", "water_density", "trimmed",
+                "sources"},
     "hydro": {"volume", "centre_of_buoyancy", "added_mass", "linear_damping", "quadratic_damping",
               "linear_damping_fade", "coriolis_zeroed"},
     "hull": {"length", "diameter", "axial_cd", "crossflow_cd", "reference_area", "oswald", "strips", "crossflow"},
@@ -144,6 +148,7 @@ class VehicleSpec:
     sources: dict = field(default_factory=dict)
     path: str = ""
     water_density: float | None = None  # kg/m^3: the water the vehicle is trimmed for (None: not stated)
+    trimmed: bool = True  # trimmed for water_density (False: only identified in it; no TrimDensityWarning)
 
     @property
     def weight(self) -> float:
@@ -174,7 +179,7 @@ _LISTS_OF_NUMBERS = {"inertia", "centre_of_gravity", "size", "tow_point", "centr
                      "linear_damping", "quadratic_damping", "linear_damping_fade", "centre_of_flotation", "position",
                      "direction", "lift_direction"}
 """Keys whose values are lists of numbers (the others' are one number, but for ``_NOT_NUMBERS``)."""
-_NOT_NUMBERS = {"name", "sources", "crossflow", "depth_by_pitch", "response", "coriolis_zeroed"}
+_NOT_NUMBERS = {"name", "sources", "crossflow", "depth_by_pitch", "trimmed", "response", "coriolis_zeroed"}
 """Keys whose values are not numbers or lists of numbers (checked by ``_numbers_in`` or their class)."""
 
 
@@ -245,21 +250,22 @@ def load_vehicle(name_or_path) -> VehicleSpec:
                        size=tuple(v.get("size", (0.5, 0.2, 0.2))), tow_point=tuple(v.get("tow_point", (0.0, 0.0, 0.0))),
                        hydro=hydro, thrusters=thrusters, fins=fins, propeller=propeller, autopilot=autopilot,
                        sources=dict(v.get("sources", {})),
-                       path=str(p), water_density=None if rho is None else float(rho))
+                       path=str(p), water_density=None if rho is None else float(rho), trimmed=v.get("trimmed", True))
 
 
 def _numbers_in(table: str, label: str, item: dict) -> None:
     """Refuse text, booleans, NaN, infinities and numbers out of ``RANGES`` (or above
     ``MAX_NUMBER``) where the table ``item`` of a vehicle file (``label``: ``thrusters[1]``) holds
     numbers (every key but ``_NOT_NUMBERS``): NumPy would read ``true`` as 1 and ``"6136"`` as 6136.
-    Names are text; ``autopilot.depth_by_pitch`` is true or false; ``hydro.coriolis_zeroed`` is a
-    list of [row, column] pairs of whole numbers 0 to 5; ``hydro.volume`` may be "neutral"."""
+    Names are text; ``autopilot.depth_by_pitch`` and ``vehicle.trimmed`` are true or false;
+    ``hydro.coriolis_zeroed`` is a list of [row, column] pairs of whole numbers 0 to 5;
+    ``hydro.volume`` may be "neutral"."""
     for key, value in item.items():
         name = f"{label}.{key}"
         lo, hi, unit, above = RANGES.get((table, key), (-MAX_NUMBER, MAX_NUMBER, "", False))
         if key == "name":
             _checks.text(name, value)
-        elif key == "depth_by_pitch" and not isinstance(value, bool):
+        elif key in ("depth_by_pitch", "trimmed") and not isinstance(value, bool):
             raise ValueError(f"{name} = {value!r}: must be true or false")
         elif key == "coriolis_zeroed" and not (isinstance(value, list) and all(
                 isinstance(pair, list) and len(pair) == 2 and all(type(i) is int and 0 <= i <= 5 for i in pair)
@@ -294,7 +300,9 @@ def _fin(table: dict) -> Fin:
 
 def build_vehicle(spec: mujoco.MjSpec, vs: VehicleSpec, name: str = "vehicle", pos=(0.0, 0.0, 0.0)) -> VehicleModel:
     """Add ``vs`` to ``spec`` as body ``name`` at ``pos`` (m, world): its body, thrusters, fins
-    and propeller (actuators ``{name}/{part}``) and tow point site ``{name}/tow_point``."""
+    and propeller (actuators ``{name}/{part}``) and tow point site ``{name}/tow_point``. Bound to
+    water of another density than the one it is trimmed for (``vs.water_density``, where
+    ``vs.trimmed``), it warns (``vehicle.TrimDensityWarning``)."""
     vm = add_vehicle(spec, name, mass=vs.mass, inertia=vs.inertia, hydro=vs.hydro,
                      centre_of_gravity=vs.centre_of_gravity, pos=pos, size=vs.size)
     spec.body(name).add_site(name=f"{name}/tow_point", pos=list(vs.tow_point), size=[0.02, 0.0, 0.0])
@@ -305,6 +313,8 @@ def build_vehicle(spec: mujoco.MjSpec, vs: VehicleSpec, name: str = "vehicle", p
     if vs.propeller is not None:
         add_propeller(spec, name, vs.propeller)
     vm.fins, vm.propeller, vm.thrusters = vs.fins, vs.propeller, tuple(vs.thrusters)
+    vm.trim_density = vs.water_density if vs.trimmed else None  # (built in other water: TrimDensityWarning)
+    vm.file = vs.path
     return vm
 
 

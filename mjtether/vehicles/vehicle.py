@@ -51,7 +51,9 @@ Units SI; world z up; body x forward, y left, z up.
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass, field
+from pathlib import Path
 
 import mujoco
 import numpy as np
@@ -73,6 +75,13 @@ def _matrix6(name: str, value) -> np.ndarray:
     if a.shape != (6, 6) or not np.all(np.isfinite(a)):
         raise ValueError(f"{name} must be 6 numbers (a diagonal) or a 6x6 matrix, got shape {a.shape}")
     return a
+
+
+class TrimDensityWarning(UserWarning):
+    """A vehicle built in water of another density than the one its file says it is trimmed for
+    (``vehicle.water_density``): its buoyancy differs from its trim by (rho_w - rho_trim) g V, and a
+    vehicle neutral there sinks or rises here (the REMUS 100, neutral in 1026 kg/m^3, sinks 2.6 m in
+    60 s in 1025 kg/m^3)."""
 
 
 CROSSFLOW_SUMS = ("midpoint", "fossen")
@@ -236,6 +245,8 @@ class VehicleModel:
     propeller: Propeller | None = None  # its actuator named {name}/{propeller.name}
     size: tuple = (0.5, 0.1, 0.1)  # m, the drawn ellipsoid's semi-axes: the hull's extent at the surface
     thrusters: tuple = ()  # thruster.Thruster, their actuators named {name}/{thruster.name}
+    trim_density: float | None = None  # kg/m^3: the water it is trimmed for (None: none stated; no warning)
+    file: str = ""  # the vehicle file it was read from ("": built in code)
 
 
 def add_vehicle(spec: mujoco.MjSpec, name: str, *, mass: float, inertia, hydro: VehicleHydro,
@@ -334,6 +345,23 @@ class BoundVehicle:
             self._tau = np.zeros(6)
         make_not_simple(model, self.id)
         self._orient(np.eye(3))
+        if vm.trim_density is not None:
+            self._warn_trim(vm, float(model.body_pos[self.id][2]))
+
+    def _warn_trim(self, vm: VehicleModel, z: float) -> None:
+        """Warn (``TrimDensityWarning``) where the water's density at the vehicle's starting height
+        ``z`` (m, world; 0 above the surface) is not the one it is trimmed for: its buoyancy differs
+        from its trim by (rho_w - rho_trim) g V (N; the displaced volume V, whole)."""
+        rho = float(self.water.rho(np.array([min(z, 0.0)]))[0])
+        if abs(rho - vm.trim_density) <= 1e-9 * vm.trim_density:  # (the same water, to rounding)
+            return
+        change = (rho - vm.trim_density) * self.water.gravity * self.hydro.volume
+        who = f"vehicle file {Path(vm.file).name} (body {vm.name!r})" if vm.file else f"vehicle {vm.name!r}"
+        warnings.warn(f"{who} is trimmed for water of {vm.trim_density:g} kg/m^3, but the water at its depth "
+                      f"({-min(z, 0.0):g} m) is {rho:.6g} kg/m^3: its buoyancy differs from its trim by "
+                      f"{change:+.6g} N (what is neutral there {'rises' if change > 0 else 'sinks'} here); give the "
+                      f"water a density of {vm.trim_density:g} kg/m^3 to fly it as trimmed", TrimDensityWarning,
+                      stacklevel=3)
 
     def native_table(self):
         """This vehicle's arrays for the native callback (``native``, slots ``V_*``), or None where

@@ -12,7 +12,7 @@ import numpy as np  # noqa: E402
 import pytest  # noqa: E402
 from matplotlib.text import Text  # noqa: E402
 
-from mjtether.io import results  # noqa: E402
+from mjtether.io import lines_npz, results  # noqa: E402
 from mjtether.scenario.runner import RECORD_FIELDS, run  # noqa: E402
 from mjtether.scenario import load_scenario  # noqa: E402
 
@@ -35,7 +35,7 @@ length = 108.0
 segments = 10
 """
 
-UNIT = re.compile(r"\((m|s|N|m/s|N m|kg|Pa|deg|\N{DEGREE SIGN})\)\s*$")
+UNIT = re.compile(r"\((m|s|N|kN|m/s|N m|kg|Pa|deg|\N{DEGREE SIGN})\)\s*$")
 
 
 @pytest.fixture(scope="module")
@@ -49,6 +49,7 @@ def sloped_run():
 def figures(sloped_run):
     sc, rows, history, _ = sloped_run
     figs = {"tension": results.tension_figure(rows),
+            "line_tension": results.line_tension_figure(lines_npz.tether_arrays(rows[:, 0], history), sc),
             "profile": results.profile_figure(rows, history["nodes"], sc),
             "track": results.track_figure(rows, sc)}
     yield figs
@@ -215,10 +216,12 @@ def test_profile_with_first_sample_only(sloped_run):
 
 @pytest.mark.parametrize("plots", [True, False])
 def test_write_folder_has_the_three_pngs(tmp_path, sloped_run, plots):
+    """With a tether: tension.png, line_tension.png and profile.png (no track.png: the profile's
+    top view draws the same tracks); with ``plots=False`` none."""
     sc, rows, history, info = sloped_run
     before = set(plt.get_fignums())
     out = results.write(tmp_path / "out", sc, rows, history, info, plots=plots)
-    pngs = {"tension.png", "profile.png", "track.png"}
+    pngs = {"tension.png", "line_tension.png", "profile.png"}
     present = {p.name for p in out.iterdir() if p.suffix == ".png"}
     if plots:
         assert present == pngs

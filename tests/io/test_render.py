@@ -125,3 +125,67 @@ def test_missing_opengl_names_the_system_package(monkeypatch):
     monkeypatch.setattr(render, "_backend", None)
     with pytest.raises(render.RenderUnavailable, match="libosmesa6"):
         render.gl_backend()
+
+
+def _one_two_five(value: float) -> float:
+    """The smallest 1, 2 or 5 x 10^k (k from -3 to 9) at or above ``value``: by listing them."""
+    return min(m * 10.0**k for k in range(-3, 10) for m in (1, 2, 5) if m * 10.0**k >= value)
+
+
+def test_live_colour_scale_is_the_runs_not_the_rated_load(tmp_path):
+    """A live video's colour scale by default: twice the largest element tension at the start
+    rounded up to 1, 2 or 5 x 10^k N (read here from MuJoCo's constraint forces, ``raw_element_forces``),
+    not the rated load (176.8 kN, as a line type's MBL: it would draw the ~1 kN cable dark
+    blue), for two cables (1500 and 2500 kg/m^3) whose scales differ; an explicit
+    ``tension_scale`` is kept. Exact (a listing of 1-2-5 values against the code's rounding)."""
+    from helpers import raw_element_forces
+
+    from mjtether.io.render import ScenarioView
+
+    scales = []
+    for density in ("1500.0", "2500.0"):  # (a lighter cable: about 330 N at the top; as in small(): 1050 N)
+        text = small(1.0).replace("EA = 5.0e6", "EA = 5.0e6\nrated_load = 176800.0").replace(
+            "density = 2500.0", f"density = {density}")
+        r = ScenarioRun(load_scenario(text=text))
+        try:
+            start = float(np.max(-raw_element_forces(r.bt, r.sim.data)))
+            assert 100.0 < start < 2000.0
+            scales.append(ScenarioView(r).default_scale())
+            assert scales[-1] == _one_two_five(2.0 * start)
+            rec = VideoRecorder(r, tmp_path / "a.mp4", VideoSettings(64, 48, 10, "side", tension_scale=176800.0))
+            try:
+                assert rec.scale == 176800.0
+            finally:
+                rec.abort()
+        finally:
+            r.close()
+    assert scales == [1000.0, 5000.0]  # (follows the run: neither fixed nor the rated load)
+
+
+def test_replay_colour_scale_is_the_saved_runs_peak(tmp_path, capsys):
+    """``mjtether render DIR`` colours by the largest element tension over the whole saved run
+    (lines.npz's ``linetether_tension``, every sample and element), rounded up to 1, 2 or
+    5 x 10^k N, and says so; the same replay with its saved tensions scaled by 10 gets a scale 10
+    times as large, so the scale is not fixed. Exact (a listing of
+    1-2-5 values against the code's rounding; 10x a 1-2-5 value is one)."""
+    f = tmp_path / "s.toml"
+    f.write_text(small(1.0).replace("EA = 5.0e6", "EA = 5.0e6\nrated_load = 176800.0"))
+    res = tmp_path / "res"
+    assert cli.main(["run", str(f), "--out", str(res), "--no-plots"]) == 0
+    with np.load(res / "lines.npz") as z:
+        arrays = {k: z[k] for k in z.files}
+    peak = float(arrays["linetether_tension"].max())
+    video = ["--fps", "2", "--width", "64", "--height", "48", "--camera", "side"]
+    capsys.readouterr()
+    assert cli.main(["render", str(res), "-o", str(tmp_path / "a.mp4"), *video]) == 0
+    assert f"tension colours 0-{_one_two_five(peak):g} N" in capsys.readouterr().out
+    from mjtether.io.render import ScenarioView
+    from mjtether.io.replay import Replay, Saved
+
+    rep = Replay(Saved(res))
+    try:
+        assert ScenarioView(rep).default_scale() == _one_two_five(peak)
+        rep.saved.tension = 10.0 * rep.saved.tension
+        assert ScenarioView(rep).default_scale() == _one_two_five(10.0 * peak) == 10.0 * _one_two_five(peak)
+    finally:
+        rep.close()

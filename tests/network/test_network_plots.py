@@ -23,7 +23,7 @@ def test_plots_are_written_and_draw_the_time_series(tmp_path):
     r, rows = run.simulate(_net())
     r.sim.close()
     run.write(r, rows, tmp_path)
-    assert json.loads((tmp_path / "summary.json").read_text())["plots"] == ["tension.png", "profile.png"]
+    assert json.loads((tmp_path / "summary.json").read_text())["plots"] == ["tension.png", "profile.png", "line_tension.png"]
     assert all((tmp_path / f).stat().st_size > 10_000 for f in ("tension.png", "profile.png"))
     csv = np.genfromtxt(tmp_path / "timeseries.csv", delimiter=",", names=True)
     cols = run.columns(r.net)

@@ -137,7 +137,7 @@ def test_run_writes_a_complete_results_folder(tmp_path):
     out = tmp_path / "res"
     assert cli.main(["run", str(f), "--out", str(out)]) == 0
     names = {p.name for p in out.iterdir()}
-    assert {"timeseries.csv", "lines.npz", "summary.json", "tension.png", "profile.png", "track.png"} <= names
+    assert {"timeseries.csv", "lines.npz", "summary.json", "tension.png", "profile.png", "line_tension.png"} <= names
     header = (out / "timeseries.csv").read_text().splitlines()[0].split(",")
     # a walker run: the tangle monitor's columns about a vehicle are left out, the cable's own kept
     assert header == results.column_names(vehicle=False)
@@ -148,7 +148,7 @@ def test_run_writes_a_complete_results_folder(tmp_path):
     assert npz["linetether_nodes"].shape == (5, 31, 3)
     s = json.loads((out / "summary.json").read_text())
     assert s["scenario"]["tether"]["segments"] == 30 and s["run"]["realtime_factor"] > 0
-    assert all((out / p).stat().st_size > 1000 for p in ("tension.png", "profile.png", "track.png"))
+    assert all((out / p).stat().st_size > 1000 for p in ("tension.png", "profile.png", "line_tension.png"))
 
 
 def test_failed_run_writes_nothing(tmp_path, capsys):

@@ -1,4 +1,10 @@
-"""Command line: ``mjtether run``, ``mjtether render``, ``mjtether solve``, ``mjtether demo``."""
+"""Command line: ``mjtether run``, ``render``, ``solve``, ``sweep``, ``report``, ``convert``, ``demo``.
+
+``mjtether solve``'s printout is ``mjtether.cli.solve``. Everything past ``argparse`` is imported
+inside the command that needs it, so that ``mjtether --help`` and a mistyped option answer at once
+(importing numba, SciPy and the kernels costs seconds; that also needs ``mjtether/__init__.py`` to
+import its names lazily).
+"""
 
 from __future__ import annotations
 
@@ -8,10 +14,24 @@ import sys
 import warnings
 from pathlib import Path
 
-from mjtether import _checks, demo
-from mjtether.files.outdir import terminate_as_exit
+CAMERAS = ("track", "side", "top", "walker")
+"""``mjtether.io.render.CAMERAS``, named here so that building the parser imports no renderer
+(a test checks that they agree)."""
+SCENARIO = ("scenario TOML file, MoorDyn v2 input file or a shipped example's name (listed below; default: the "
+            "built-in scenario)")
 
-from .units import knots
+
+def _examples_epilog() -> str:
+    """The shipped examples' names (``examples/*.toml``, as ``_load`` takes them), for a ``--help``."""
+    from mjtether.files.packagedata import examples_dir
+
+    try:
+        folder = examples_dir()
+    except FileNotFoundError:
+        return ""
+    names = sorted(str(p.relative_to(folder).with_suffix("")) for p in folder.rglob("*.toml"))
+    return ("shipped examples, run by name instead of a file (e.g. `mjtether run default_walker`; the files are in "
+            f"{folder}): " + ", ".join(names))
 
 
 def main(argv=None) -> int:
@@ -28,8 +48,9 @@ def main(argv=None) -> int:
     demo_cmd.add_argument("--segments", type=int, default=50, help="number of elements, default 50")
     demo_cmd.add_argument("--current-knots", type=float, default=3.0, help="surface current (kn), default 3")
     demo_cmd.add_argument("--duration", type=float, default=120.0, help="simulated time (s), default 120")
-    run_cmd = sub.add_parser("run", help="run a scenario file and write its results folder")
-    run_cmd.add_argument("scenario", nargs="?", help="scenario TOML file or MoorDyn v2 input file (default: the built-in scenario)")
+    epilog = _examples_epilog()
+    run_cmd = sub.add_parser("run", help="run a scenario file and write its results folder", epilog=epilog)
+    run_cmd.add_argument("scenario", nargs="?", help=SCENARIO)
     _set_option(run_cmd)
     run_cmd.add_argument("--out", default="results", help="results folder (default: ./results)")
     run_cmd.add_argument("--overwrite", action="store_true",
@@ -38,23 +59,25 @@ def main(argv=None) -> int:
     run_cmd.add_argument("--video", nargs="?", const="video.mp4", metavar="NAME",
                          help="also render a video into the results folder (default name video.mp4; .mp4 or .gif)")
     _video_options(run_cmd)
+    run_cmd.add_argument("--report", action="store_true", help="also write the results folder's HTML report "
+                         "(as `mjtether report DIR` does)")
     render_cmd = sub.add_parser("render", help="render a scenario run to a video file (no display needed), or "
-                                "replay a results folder of `mjtether run` without simulating again")
-    render_cmd.add_argument("scenario", nargs="?", help="scenario TOML file or MoorDyn v2 input file (default: the "
-                            "built-in scenario), or a results folder to replay (mjtether run --out DIR)")
+                                "replay a results folder of `mjtether run` without simulating again", epilog=epilog)
+    render_cmd.add_argument("scenario", nargs="?", help=SCENARIO + ", or a results folder to replay (mjtether run "
+                            "--out DIR)")
     _set_option(render_cmd)
     render_cmd.add_argument("-o", "--output", default="run.mp4", help="video file, .mp4 (H.264) or .gif (default run.mp4)")
     render_cmd.add_argument("--duration", type=float, help="simulated seconds to render (default: the scenario's)")
     render_cmd.add_argument("--overwrite", action="store_true", help="replace an existing video file")
     _video_options(render_cmd)
     solve_cmd = sub.add_parser("solve", help="print the quasi-static answer for a scenario's or a network's initial "
-                               "state")
-    solve_cmd.add_argument("scenario", nargs="?", help="scenario TOML file or MoorDyn v2 input file (default: the built-in scenario)")
+                               "state", epilog=epilog)
+    solve_cmd.add_argument("scenario", nargs="?", help=SCENARIO)
     _set_option(solve_cmd)
     sweep_cmd = sub.add_parser("sweep", help="run a scenario or a network of lines over a grid or a random sample "
-                               "of key values; one row of figures per case (see mjtether.sweep)")
+                               "of key values; one row of figures per case (see mjtether.sweep)", epilog=epilog)
     sweep_cmd.add_argument("scenario", help="scenario TOML file, a network (TOML with [[lines]], or a MoorDyn file), "
-                           "or a shipped example by name (default_walker, networks/rov_cage_excursion)")
+                           "or a shipped example's name (listed below)")
     _set_option(sweep_cmd)
     sweep_cmd.add_argument("--vary", action="append", required=True, metavar="KEY=SPEC",
                            help="a key and its values (repeatable): START:STOP:COUNT (both ends included, e.g. "
@@ -72,6 +95,14 @@ def main(argv=None) -> int:
     sweep_cmd.add_argument("--overwrite", action="store_true", help="replace DIR only if it holds an earlier sweep")
     sweep_cmd.add_argument("--restart", action="store_true",
                            help="run every case again, discarding those an interrupted sweep into DIR finished")
+    sweep_cmd.add_argument("--report", action="store_true", help="also write the sweep's HTML report (a table "
+                           "of its cases, as `mjtether report DIR` does)")
+    report_cmd = sub.add_parser("report", help="write one self-contained HTML file of a results folder (of "
+                                "`mjtether run` or `mjtether sweep`): a 3-D replay and the plots; it opens from disk, "
+                                "with no network")
+    report_cmd.add_argument("results", metavar="RESULTS_DIR", help="the results folder (mjtether run --out DIR, "
+                            "or a sweep's --out DIR)")
+    report_cmd.add_argument("--out", metavar="FILE", help="the HTML file to write (default: RESULTS_DIR/report.html)")
     args = ap.parse_args(argv)
     with _plain_warnings(f"mjtether {args.command}"):
         return _dispatch(args)
@@ -109,14 +140,21 @@ def _dispatch(args) -> int:
     if args.command == "run":
         return _run(args)
     if args.command == "solve":
-        return _solve(args)
+        from .solve import solve
+
+        return solve(args)
     if args.command == "sweep":
         return _sweep(args)
     if args.command == "render":
         return _render(args)
     if args.command == "convert":
         return _convert(args)
+    if args.command == "report":
+        return _report(args)
     if args.command == "demo":
+        from mjtether import _checks, demo
+        from mjtether.units import knots
+
         try:
             _checks.in_range("--current-knots", args.current_knots, 0.0, 19.0, "kn")
             _checks.in_range("--duration", args.duration, 1e-3, 86400.0, "s")
@@ -137,15 +175,14 @@ def _set_option(p) -> None:
 
 
 def _video_options(p) -> None:
-    from mjtether.io.render import CAMERAS
-
     p.add_argument("--width", type=int, default=640, help="frame width in pixels, even (default 640)")
     p.add_argument("--height", type=int, default=480, help="frame height in pixels, even (default 480)")
     p.add_argument("--fps", type=float, default=30.0, help="frames per second of simulated time (default 30)")
     p.add_argument("--camera", choices=CAMERAS, default="track",
                    help="track: follows the robot; side/top: the whole tether; walker: the walker's camera")
     p.add_argument("--tension-scale", type=float, metavar="N",
-                   help="top of the tension colour scale in N (default: rated load, else 2x the initial peak)")
+                   help="top of the tension colour scale in N (default: from the run's own tensions: a replay's largest over "
+                        "the run, a live render's 2x the initial largest)")
     p.add_argument("--default-visuals", action="store_true",
                    help="MuJoCo's default visuals (shadows, reflections, anti-aliasing): slower")
 
@@ -174,7 +211,7 @@ def _load(path, sets=(), network: bool = False):
     from mjtether.io.moordyn import load_any
     from mjtether.network import Network
 
-    from .scenario import ScenarioError
+    from mjtether.scenario import ScenarioError
 
     if path is not None and not str(path).strip():
         print("mjtether: scenario '': give a scenario file, a MoorDyn file or a shipped example's name "
@@ -192,24 +229,22 @@ def _load(path, sets=(), network: bool = False):
     return sc
 
 
-DEFAULT_SCENARIO = Path(__file__).resolve().parent / "scenarios" / "default.toml"
+DEFAULT_SCENARIO = Path(__file__).resolve().parents[1] / "scenarios" / "default.toml"
 
 
 def _simulate(sc, command: str, what: str, **kw):
     """``runner.run`` with a progress bar; returns its result, or None after printing why it
     failed (``what``: what the failure leaves unwritten). The first run after an install or an
-    update compiles the force kernels: it says so, and the bar starts when the stepping does."""
+    update compiles the force kernels as it is built (``_compile_clock``); the bar starts when
+    the stepping does."""
     from tqdm import tqdm
 
-    from mjtether.physics import compiled, jitcache
+    from mjtether.physics import jitcache
     from mjtether.scenario.runner import RunFailed, run
 
-    from .simulation import SimulationDiverged
+    from mjtether.simulation import SimulationDiverged
 
-    cold = compiled.backend() == "numba" and jitcache.CACHE and not jitcache.warm()
-    if cold:
-        print(f"mjtether {command}: compiling the force kernels for this install (about half a minute, once)",
-              file=sys.stderr)
+    clock = _compile_clock(command)
     bar = None
 
     def progress(k, n):
@@ -218,20 +253,53 @@ def _simulate(sc, command: str, what: str, **kw):
             bar = tqdm(total=n, unit="step", desc=f"mjtether {command}", leave=False)
         bar.update(k - bar.n)
 
+    def built(runner):
+        if clock is not None:
+            _compiled(command, clock)
+
     try:
-        result = run(sc, progress=progress, **kw)
-        if cold:
+        result = run(sc, progress=progress, on_start=built, **kw)
+        if clock is not None:
             jitcache.mark_warm()
+            result.info["compile_s"] = clock.seconds
         return result
     except (RunFailed, SimulationDiverged, ValueError, RuntimeError) as exc:
         if bar is not None:  # (so that the message starts a line of its own)
             bar.close()
             bar = None
+        if clock is not None:
+            clock.stop()
         print(f"mjtether {command}: failed, no {what} written: {exc}", file=sys.stderr)
         return None
     finally:
         if bar is not None:
             bar.close()
+        if clock is not None:
+            clock.stop()
+
+
+COMPILE_ESTIMATE = "about a minute on a free core, minutes on a busy one"
+"""How long the first run's compile takes (measured: 50 s building ``default_walker`` with a fresh
+``NUMBA_CACHE_DIR`` on an idle 2-core machine, about 2 minutes on a busy one)."""
+
+
+def _compile_clock(command: str):
+    """Where the kernels are not known to be compiled and cached (``jitcache.warm``): says so
+    and returns the started ``jitcache.CompileClock`` that counts the seconds of it; else None."""
+    from mjtether.physics import compiled, jitcache
+
+    if not (compiled.backend() == "numba" and jitcache.CACHE and not jitcache.warm()):
+        return None
+    print(f"mjtether {command}: compiling the force kernels for this install, once ({COMPILE_ESTIMATE})",
+          file=sys.stderr)
+    return jitcache.CompileClock(f"mjtether {command}: compiling").start()
+
+
+def _compiled(command: str, clock) -> None:
+    """Stop ``clock`` and say how long the compile took (once: it is stopped after that)."""
+    if clock.seconds is None:
+        print(f"mjtether {command}: compiled the force kernels in {clock.stop():.1f} s; later runs skip this",
+              file=sys.stderr)
 
 
 def _run(args) -> int:
@@ -288,9 +356,28 @@ def _run(args) -> int:
         worst = snaps["worst"][0]
         tensions += (f"; {snaps['count']} snap load(s), the worst {worst['peak_tension_N']:.0f} N at t = "
                      f"{worst['time_s']:.1f} s, {worst['from_ship_m']:.0f} m from the ship (summary.json's snap_loads)")
-    print(f"{info['simulated_s']:.0f} s simulated in {info['wall_time_s']:.1f} s "
-          f"({info['realtime_factor']:.1f}x real time); {tensions}; results in {out}/")
-    return 0
+    compiled = ", with the force kernels' compile (once)" if "compile_s" in info else ""
+    print(f"{simulated(sc.simulation.duration, info['simulated_s'], sc.simulation.timestep)} simulated in "
+          f"{info['stepping_s']:.1f} s of stepping ({info['stepping_realtime_factor']:.1f}x real time; the start took "
+          f"{info['start_s']:.1f} s{compiled}); {tensions}; results in {out}/")
+    return _report_of(args, "run", out)
+
+
+def simulated(asked: float, ran: float, dt: float) -> str:
+    """The simulated time (s) for a closing line: ``asked`` (the duration) where the run reached
+    it to the nearest whole step ``dt`` (10 s at 2.4 ms steps is 4167 of them, 10.0008 s),
+    else what it ran (stopped early, or a duration under a step) and what was asked."""
+    if abs(ran - asked) <= 0.5 * dt * (1 + 1e-9):
+        return f"{asked:g} s"
+    return f"{ran:.6g} s (of {asked:g} s asked)"
+
+
+def _report_of(args, command: str, folder) -> int:
+    """With ``--report``: the report of the results folder ``folder`` written (``_report``), its
+    path printed; 1 if it could not be (the results stay). Else 0."""
+    if not getattr(args, "report", False):
+        return 0
+    return _report(argparse.Namespace(results=folder, out=None), command, kept=f"the results are in {folder}/, ")
 
 
 def _run_network(args, net) -> int:
@@ -299,7 +386,7 @@ def _run_network(args, net) -> int:
     from mjtether.io.network_view import network_video_into
     from mjtether.network import run
 
-    from .simulation import SimulationDiverged
+    from mjtether.simulation import SimulationDiverged
 
     video = None
     if args.video:
@@ -326,12 +413,14 @@ def _run_network(args, net) -> int:
     else:
         what = f"{len(net.bodies)} bodies, no lines"
     shown = f"; video {r.video['file']} ({r.video['frames']} frames)" if r.video else ""
-    print(f"{rows[-1, 0]:g} s simulated ({len(net.lines)} lines, step {r.timestep:g} s); {what}{shown}; results in "
-          f"{args.out}/")
-    return 0
+    ran = simulated(net.duration, rows[-1, 0] - rows[0, 0], r.timestep)
+    print(f"{ran} simulated ({len(net.lines)} lines, step {r.timestep:g} s); {what}{shown}; results in {args.out}/")
+    return _report_of(args, "run", args.out)
 
 
 def _render(args) -> int:
+    from mjtether.files.outdir import terminate_as_exit
+
     if args.scenario and Path(args.scenario).is_dir():
         return _replay(args)
     sets = args.set + ([(f"simulation.duration={args.duration!r}", f"--duration {args.duration:g}")]
@@ -365,38 +454,49 @@ def _render(args) -> int:
 
 def _with_bar(command: str, what: str, call, errors):
     """``call(progress)`` under a progress bar: (its result, None), or (None, the exit code) after
-    printing why nothing (``what``) was written: one of ``errors`` (1) or Ctrl-C (130)."""
+    printing why nothing (``what``) was written: one of ``errors`` (1) or Ctrl-C (130). A first
+    run's compile is counted (``_compile_clock``) until the bar starts."""
     from tqdm import tqdm
 
-    bar = tqdm(total=1, unit="step", desc=f"mjtether {command}", leave=False)
+    clock = _compile_clock(command)
+    bar = tqdm(total=1, unit="step", desc=f"mjtether {command}", leave=False, delay=1e9 if clock else 0)
 
     def progress(k, n):
+        if clock is not None:
+            _compiled(command, clock)
         bar.total = n
         bar.update(k - bar.n)
+        bar.delay = 0
+
+    def close():  # (so that a message starts a line of its own)
+        bar.close()
+        if clock is not None:
+            clock.stop()
 
     try:
         return call(progress), None
     except errors as exc:
-        bar.close()  # (so that the message starts a line of its own)
+        close()
         print(f"mjtether {command}: failed, no {what} written: {exc}", file=sys.stderr)
         return None, 1
     except KeyboardInterrupt:
-        bar.close()
+        close()
         print(f"mjtether {command}: interrupted; no {what} written", file=sys.stderr)
         return None, 130
     finally:
-        bar.close()
+        close()
 
 
 def _render_network(args, net) -> int:
     """``mjtether render`` of a network of lines: simulated and rendered, nothing else written."""
     import time
 
+    from mjtether.files.outdir import terminate_as_exit
     from mjtether.io.network_view import network_video
     from mjtether.io.render import RenderUnavailable
     from mjtether.network import run
 
-    from .simulation import SimulationDiverged
+    from mjtether.simulation import SimulationDiverged
 
     try:
         video = network_video(_video_settings(args), args.output, overwrite=args.overwrite)
@@ -423,6 +523,7 @@ def _render_network(args, net) -> int:
 def _replay(args) -> int:
     """``mjtether render DIR``: the results folder DIR replayed from its saved states
     (``mjtether.io.replay``), nothing simulated."""
+    from mjtether.files.outdir import terminate_as_exit
     from mjtether.io.render import RenderUnavailable, VideoSettings
     from mjtether.io.replay import ReplayError, replay
 
@@ -461,7 +562,7 @@ def _convert(args) -> int:
     from mjtether.io import moordyn
     from mjtether.network import Network
 
-    from .scenario import ScenarioError, to_toml
+    from mjtether.scenario import ScenarioError, to_toml
 
     sc = _load(args.source, args.set, network=True)
     if sc is None:
@@ -506,160 +607,20 @@ def _convert(args) -> int:
 def _sweep(args) -> int:
     from mjtether import sweep
 
-    return sweep.cli(args)
+    return sweep.cli(args) or _report_of(args, "sweep", args.out)
 
 
-def _solve(args) -> int:
-    import numpy as np
+def _report(args, command: str = "report", kept: str = "") -> int:
+    """``mjtether report DIR [--out FILE]``: the one-file HTML report of a results folder or a
+    sweep's folder (``mjtether.io.report.write_report``); prints its path. 2 for a folder it
+    cannot report on, 1 where the file cannot be written (``kept``: what stays, for a run's
+    ``--report``)."""
+    from mjtether.io.report import ReportError, write_report
 
-    from mjtether.network import Network
-    from mjtether.scenario.runner import ScenarioRun
-
-    sc = _load(args.scenario, args.set, network=True)
-    if sc is None:
-        return 2
-    if isinstance(sc, Network):
-        return _solve_network(sc)
-    from mjtether.scenario.runner import RunFailed
     try:
-        r = ScenarioRun(sc)
-    except ValueError as exc:
-        print(f"mjtether solve: {exc}", file=sys.stderr)
-        return 2
-    except RunFailed as exc:
-        print(f"mjtether solve: {_no_steady_state(exc.reason) if exc.reason else exc}", file=sys.stderr)
-        return 1
-    try:
-        ss = r.initial if r.initial is not None else r.steady_state  # (solved, even where the run settles)
-        if not r.tethered:
-            print("no tether (tether.attached = false): nothing to solve; the vehicle runs alone, starting level "
-                  "and at rest")
-            return 0
-        if sc.winch.start_empty:
-            print("nothing deployed at the start (winch.start_empty): the vehicle starts at the fairlead with no "
-                  "cable out; its steady state is the empty one")
-            return 0
-        if ss is None:
-            print(f"mjtether solve: {_no_steady_state(r.steady_note)}", file=sys.stderr)
-            return 1
-        np.set_printoptions(precision=1, suppress=True)
-        print(f"steady state of {r.tether_spec.length:g} m of tether ({r.tether_spec.segments} elements):")
-        print(f"  force on the ship     {ss.top_force} N  (tension {ss.top_tension:.1f} N)")
-        print(f"  force on the tow point {ss.bottom_force} N  (tension {ss.tow_tension:.1f} N)")
-        print(f"  lowest point z = {ss.nodes[:, 2].min():.2f} m; on the seabed: {ss.laid_length:.1f} m")
-        _print_tow_note(r, ss)
-        _print_khan(r)
-    finally:
-        r.close()
+        path = write_report(args.results, out=args.out)
+    except (ReportError, OSError) as exc:
+        print(f"mjtether {command}: {kept}no report written: {exc}", file=sys.stderr)
+        return 2 if isinstance(exc, ReportError) and not kept else 1
+    print(f"report in {path}")
     return 0
-
-
-def _solve_network(net) -> int:
-    """``mjtether solve`` of a network of lines: each line's end forces at the steady state, the
-    free points' positions and what the statics hold instead of balancing (``network.solve``)."""
-    import numpy as np
-
-    from mjtether.network.solve import solve
-
-    try:
-        sol = solve(net)
-    except (ValueError, RuntimeError) as exc:
-        print(f"mjtether solve: {exc}", file=sys.stderr)
-        return 1
-    print(f"steady state of {len(net.lines)} line(s): {sol.note}")
-    width = max([4] + [len(n) for n in sol.lines])
-    print(f"  {'line':{width}s}  {'end A':>10s} {'tension N':>11s} {'horiz. N':>10s}   {'end B':>10s} "
-          f"{'tension N':>11s} {'horiz. N':>10s}  shape")
-    for ln in net.lines:
-        e = sol.lines[ln.name]
-        ha, hb = float(np.hypot(*e.force_a[:2])), float(np.hypot(*e.force_b[:2]))
-        shape = "catenary" if e.catenary else "straight bar (half its wet weight at each end)"
-        print(f"  {ln.name:{width}s}  {ln.a:>10.10s} {e.tension_a:11.1f} {ha:10.1f}   {ln.b:>10.10s} "
-              f"{e.tension_b:11.1f} {hb:10.1f}  {shape}")
-    free = [n for n, p in net.points.items() if p.kind == "free"]
-    for name in free:
-        x, y, z = sol.positions[name]
-        print(f"  point {name}: ({x:.2f}, {y:.2f}, {z:.2f}) m")
-    for name, pose in sorted(getattr(sol, "poses", {}).items()):
-        (x, y, z), (roll, pitch, yaw) = pose.position, pose.rpy_deg
-        print(f"  body {name}: ({x:.2f}, {y:.2f}, {z:.2f}) m, roll/pitch/yaw ({roll:.2f}, {pitch:.2f}, {yaw:.2f}) deg")
-    for sentence in sol.unbalanced:
-        print(f"  (not balanced by the statics: {sentence})")
-    if not sol.balanced:
-        print(f"mjtether solve: {sol.note}", file=sys.stderr)
-        return 1
-    return 0
-
-
-def _no_steady_state(note: str) -> str:
-    return note if note.startswith("no steady state") else f"no steady state: {note}"
-
-
-def _print_tow_note(r, ss) -> None:
-    """What the steady tow tension is, and why a run's and Khan et al.'s differ from it: the tow point
-    holds the cable rising to it from the seabed; the tension at the touchdown is held by seabed
-    friction on the laid cable (taken fully mobilised, as a run starts: ``preload_friction``), less
-    of it, or none, reaching the tow point; a walking walker drags its laid cable."""
-    import numpy as np
-
-    from mjtether.scenario.start import rise_weight_per_length
-
-    if ss.laid_length <= 0.0:
-        return
-    x, y, z = (float(v) for v in r.robot_position)
-    w = rise_weight_per_length(r.scene, z)
-    rise = max(z - float(r.seabed_z(x, y)) - r.scene.contact_diameter / 2, 0.0)
-    cb, laid = r.sc.tether.seabed_friction, ss.laid_length
-    end = float(np.hypot(*ss.bottom_force[:2]))  # (the rising piece adds weight only)
-    touchdown = cb * w * (laid - ss.slack_length) + end
-    rising = f"the {rise:.2f} m of cable rising to it from the seabed ({w * rise:.1f} N in water) and " \
-        if rise > 0.01 else ""
-    if cb > 0.0:
-        held = (f"{end:.1f} N of the {touchdown:.1f} N the line carries at the touchdown, the rest held by seabed "
-                f"friction on the {laid:.1f} m laid (up to tether.seabed_friction x {w:.2f} N/m x {laid:.1f} m = "
-                f"{cb * w * laid:.0f} N, taken as fully mobilised, as a run starts)")
-    else:
-        held = f"all {touchdown:.1f} N the line carries at the touchdown (a frictionless seabed holds none of it)"
-    print(f"  (at rest the tow point holds {rising}{held})")
-    if r.walker and cb > 0.0 and float(r.gait_drive.commands[0, 1]) > 0.0:
-        print(f"  (a run's tow tension is larger once the walker walks: it drags the {laid:.1f} m laid behind it over "
-              f"the seabed against sliding friction, about {cb * w * laid:.0f} N and more as more is laid, and the "
-              "gait jerks it)")
-
-
-def _print_khan(r) -> None:
-    """The Khan et al. (2023) method for the walker's first commanded speed: the length that
-    reaches its depth, both readings of the paper's Eqs. 22-23 (see quasistatic.khan2023)."""
-    from .quasistatic import khan2023
-
-    if not r.walker:
-        kind = {"anchor": "an anchor", "vehicle": "a vehicle"}.get(r.sc.robot.type, repr(r.sc.robot.type))
-        print("  (the Khan et al. 2023 method applies to a walker moving at constant speed; "
-              f"this scenario's robot is {kind})")
-        return
-    speed = float(r.gait_drive.commands[0, 1])
-    if speed <= 0.0:
-        print("  (the Khan et al. 2023 method applies to a walker moving away from the ship; "
-              f"the first command is {speed:g} m/s)")
-        return
-    t = r.tether_spec
-    depth = -float(r.robot_position[2])
-    print(f"Khan et al. (2023) method, walker at {speed:g} m/s, tow point at {depth:.1f} m depth (2-D, "
-          "head-on current, no seabed contact):")
-    for variant in ("printed", "consistent"):
-        try:
-            k = khan2023(diameter=t.diameter, cable_density=t.mu / t.area, water=r.water, robot_speed=speed,
-                         depth=depth, segments=t.segments, cd_normal=t.cd_normal, cd_axial=t.cd_tangential,
-                         gravity=r.water.gravity, variant=variant)
-        except (ValueError, RuntimeError) as exc:
-            print(f"  {variant:10s} no answer: {exc}")
-            continue
-        print(f"  {variant:10s} length to reach it {k.length:.1f} m, range {k.range:.1f} m, "
-              f"tow tension {k.tow_tension:.1f} N")
-    print(f"  (Khan et al.'s method ignores the seabed: all of its cable hangs in the current from the ship to the "
-          f"tow point, whose tension is that cable's weight and drag; its length is the one that just reaches the "
-          f"walker, not tether.length = {t.length:g} m, part of which lies on the seabed here)")
-
-
-if __name__ == "__main__":
-    sys.exit(main())
