@@ -106,6 +106,7 @@ def test_a_first_run_counts_its_compile_and_says_how_long_it_took(tmp_path, monk
         return ScenarioResult(None, {}, {})
 
     monkeypatch.setattr(runner_module, "run", fake_run)
+    monkeypatch.setattr(sys.stderr, "isatty", lambda: True, raising=False)  # (a terminal: the redrawn line)
     result = cli._simulate(None, "run", "results")
     err = capsys.readouterr().err
     assert "compiling the force kernels for this install, once (about a minute" in err
@@ -136,3 +137,21 @@ def test_a_warm_run_says_nothing_of_a_compile(tmp_path, monkeypatch, capsys):
     monkeypatch.setattr(runner_module, "run", fake_run)
     result = cli._simulate(None, "run", "results")
     assert "compil" not in capsys.readouterr().err and "compile_s" not in result.info
+
+
+def test_the_compile_clock_writes_whole_lines_to_a_log(monkeypatch):
+    """Written to a file or a pipe (a CI log, not a terminal), the compile clock writes a line of
+    its own every ``LOG_EVERY`` s (0.4 s here, for speed) with no carriage return, and nothing to
+    clear; ``stop`` returns the seconds since ``start``: the test's 1.0 s sleep, to 0.3 s."""
+    import io
+
+    monkeypatch.setattr(jitcache.CompileClock, "LOG_EVERY", 0.4)
+    log = io.StringIO()
+    clock = jitcache.CompileClock("mjtether run: compiling", file=log).start()
+    time.sleep(1.0)
+    took = clock.stop()
+    text = log.getvalue()
+    assert "\r" not in text
+    lines = text.splitlines()
+    assert 1 <= len(lines) <= 3 and all(re.fullmatch(r"mjtether run: compiling: \d+ s", ln) for ln in lines), text
+    assert text.endswith("\n") and abs(took - 1.0) < 0.3

@@ -18,7 +18,8 @@ Arrays (SI units; world frame, z up, surface at z = 0; F the frames kept, ``fram
 * ``marker/K`` (F, 3) or (1, 3) for a marker that does not move (m): the ship, the robot,
   points, bodies, vehicles and walkers, from the time series' positions;
 * ``ts/COLUMN`` (rows,): the time series' columns the plots draw (``timeseries.csv``), every row;
-* ``surface/eta`` (F, gy, gx; m): the sea surface on a grid over the scene, where the run had waves;
+* ``surface/eta`` (F, gy, gx; m): the sea surface on a grid over the scene, where the run had waves:
+  the run's own sea, its build-up ramp included, built again from ``summary.json`` (``sea_of``);
 * ``seabed/z`` (gy, gx; m): a bathymetry grid's heights, where the run had one.
 """
 
@@ -151,6 +152,31 @@ def scenario_of(summary: dict):
         return None
 
 
+def network_of(summary: dict):
+    """The ``Network`` of a network run's summary (``summary.json``'s "network", ``network.to_dict``),
+    or None where it cannot be rebuilt (a file it names has moved): the report then draws a flat sea."""
+    from mjtether.network import from_dict
+    try:
+        return from_dict(_uninf(summary["network"]), name="summary.json")
+    except Exception:  # (any failure: the report goes on without what it would add)
+        return None
+
+
+def sea_of(sc, net):
+    """The run's sea, a ``physics.waves.WaveField`` (its build-up ramp, ``waves.ramp_periods``,
+    included), built again by the very code the run built it with: a scenario's
+    ``scenario.sea.wave_field`` in its water's depth and gravity (as ``scenario.scene`` calls it),
+    a network's ``Network.wave_field`` (``[waves]`` or ``water.wave_components``, as
+    ``network.run.water_of`` calls it); None for a flat sea or a run not rebuilt (``sc`` and
+    ``net`` None)."""
+    if net is not None:
+        return net.wave_field()
+    if sc is None:
+        return None
+    from mjtether.scenario.sea import wave_field
+    return wave_field(sc.waves, sc.water.depth, sc.water.gravity)
+
+
 def line_names(summary: dict, files: list[str]) -> list[str]:
     """The lines of ``lines.npz`` (``files``), in the summary's order where it lists them."""
     have = [k[4:-6] for k in files if k.startswith("line") and k.endswith("_nodes")]
@@ -219,6 +245,7 @@ def collect(folder: Path, budget: int = MAX_FRAME_BYTES) -> tuple[dict, dict]:
         lines = {n: {"nodes": np.asarray(z[f"line{n}_nodes"], float), "tension": np.asarray(z[f"line{n}_tension"], float)}
                  for n in names}
     sc = scenario_of(summary) if kind == "scenario" else None
+    net_cfg = network_of(summary) if kind == "network" else None
     scenario = summary.get("scenario") or {}
     net = summary.get("network") or {}
     water = scenario.get("water") or net.get("water") or {}
@@ -246,11 +273,7 @@ def collect(folder: Path, budget: int = MAX_FRAME_BYTES) -> tuple[dict, dict]:
     lo, hi = allp.min(axis=0), allp.max(axis=0)
     pad = 0.15 * max(float(np.max(hi[:2] - lo[:2])), 0.2 * depth, 1.0)
     box = [float(lo[0] - pad), float(hi[0] + pad), float(lo[1] - pad), float(hi[1] + pad)]
-    waves = getattr(sc, "waves", None)
-    field = None
-    if waves is not None and not waves.flat:
-        from mjtether.scenario.sea import wave_field
-        field = wave_field(waves, depth, float(water.get("gravity", 9.81)))
+    field = sea_of(sc, net_cfg)
 
     per_frame = sum(ln["nodes"][0].size + 2 * ln["tension"][0].size for ln in lines.values()) * 4
     per_frame += 12 * len(markers) + (4 * GRID * GRID if field is not None else 0)

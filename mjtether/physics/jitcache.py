@@ -126,17 +126,26 @@ def mark_warm() -> None:
 
 
 class CompileClock:
-    """The seconds a first run has spent compiling, shown on ``file`` (stderr) as they pass: one
-    line that a background thread redraws every ``every`` s (``desc: 12 s``), from ``start()``
-    to ``stop()``, which clears it and returns the seconds. The kernels are compiled as a run is
-    built, by numba, one inlined into the next; they cannot be counted one by one, so the clock
-    counts time, not kernels."""
+    """The seconds a first run has spent compiling, shown on ``file`` (stderr) as they pass: on a
+    terminal one line that a background thread redraws every ``every`` s (``desc: 12 s``), from
+    ``start()`` to ``stop()``, which clears it and returns the seconds; written to a file or a
+    pipe (a CI log), a line of its own every ``LOG_EVERY`` s instead (no carriage returns). The
+    kernels are compiled as a run is built, by numba, one inlined into the next; they cannot be
+    counted one by one, so the clock counts time, not kernels."""
+
+    LOG_EVERY = 15.0
+    """Seconds between the clock's lines where ``file`` is not a terminal."""
 
     def __init__(self, desc: str, file=None, every: float = 1.0):
         import sys
         import threading
 
-        self.desc, self.file, self.every = desc, file or sys.stderr, every
+        self.desc, self.file = desc, file or sys.stderr
+        try:
+            self._tty = bool(self.file.isatty())
+        except (AttributeError, OSError, ValueError):
+            self._tty = False
+        self.every = every if self._tty else self.LOG_EVERY
         self._done = threading.Event()
         self._thread = threading.Thread(target=self._tick, daemon=True)
         self._t0 = None
@@ -149,7 +158,8 @@ class CompileClock:
         import time
 
         while not self._done.wait(self.every):
-            self._show("\r" + self._line(time.perf_counter() - self._t0))
+            line = self._line(time.perf_counter() - self._t0)
+            self._show("\r" + line if self._tty else line + "\n")
 
     def _show(self, text: str) -> None:
         try:
@@ -162,7 +172,8 @@ class CompileClock:
         import time
 
         self._t0 = time.perf_counter()
-        self._show(self._line(0.0))
+        if self._tty:
+            self._show(self._line(0.0))
         self._thread.start()
         return self
 
@@ -174,5 +185,6 @@ class CompileClock:
             self.seconds = time.perf_counter() - self._t0
             self._done.set()
             self._thread.join()
-            self._show("\r" + " " * len(self._line(self.seconds)) + "\r")
+            if self._tty:
+                self._show("\r" + " " * len(self._line(self.seconds)) + "\r")
         return self.seconds
