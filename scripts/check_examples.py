@@ -1,7 +1,7 @@
 """Every shipped example through every command, as a user would type them: ``run`` (with
 plots), ``report`` of its results folder (the HTML page), ``solve``, ``render`` of the file (a
-live video), ``render`` of the results folder (a replay), a 2-case ``sweep`` and the sweep's
-``report``, each for a few simulated seconds.
+live video), ``render`` of the results folder (a replay), a 2-case ``sweep`` (keeping each case's
+folder) and the sweep's ``report`` (linking each case's), each for a few simulated seconds.
 
     python scripts/check_examples.py [--duration 2] [--only NAME ...] [--json]
 
@@ -54,7 +54,7 @@ def check(path: Path, duration: float, work: Path) -> dict:
         "render": ["render", str(path), "--duration", f"{duration:g}", "-o", str(d / "live.gif"), *video],
         "replay": ["render", str(d / "run"), "-o", str(d / "replay.gif"), *video],
         "sweep": ["sweep", str(path), "--set", dur, "--vary", f"simulation.duration={duration / 2:g},{duration:g}",
-                  "--out", str(d / "sweep")],
+                  "--keep-cases", "--out", str(d / "sweep")],
         "sweep_report": ["report", str(d / "sweep")],
     }
     row = {"example": name}

@@ -95,8 +95,11 @@ def main(argv=None) -> int:
     sweep_cmd.add_argument("--overwrite", action="store_true", help="replace DIR only if it holds an earlier sweep")
     sweep_cmd.add_argument("--restart", action="store_true",
                            help="run every case again, discarding those an interrupted sweep into DIR finished")
+    sweep_cmd.add_argument("--keep-cases", action="store_true",
+                           help="also keep each case's whole results folder, as `mjtether run --out` writes it, in "
+                                "DIR/cases/<case>/ (the sweep's report then links each case to its own report)")
     sweep_cmd.add_argument("--report", action="store_true", help="also write the sweep's HTML report (a table "
-                           "of its cases, as `mjtether report DIR` does)")
+                           "of its cases, as `mjtether report DIR` does; with --keep-cases each case's too)")
     report_cmd = sub.add_parser("report", help="write one self-contained HTML file of a results folder (of "
                                 "`mjtether run` or `mjtether sweep`): a 3-D replay and the plots; it opens from disk, "
                                 "with no network")

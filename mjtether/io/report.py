@@ -153,20 +153,22 @@ def _sweep_page(d: Path, max_frame_bytes: int) -> str:
     names, body = rows[0], rows[1:]
     described = sweep.get("columns") or {}
     links = {}
+    status_col = names.index("status") if "status" in names else None
     for r in body:
-        case = _case_folder(d, int(r[0])) if r and r[0].isdigit() else None
+        ok = status_col is None or (len(r) > status_col and r[status_col] == "ok")
+        case = _case_folder(d, int(r[0])) if ok and r and r[0].isdigit() else None
         if case is not None:
             write_report(case, max_frame_bytes=max_frame_bytes)
+            _relist(d, case / MANIFEST)
             links[r[0]] = (case / REPORT).relative_to(d).as_posix()
     head = "".join(f'<th title="{html.escape(described.get(n, n))}">{html.escape(n)}</th>' for n in names)
     lines = []
-    status_col = names.index("status") if "status" in names else None
     for r in body:
         cells = []
         for j, v in enumerate(r):
             text = html.escape(_short(v))
             if j == 0 and r[0] in links:
-                text = f'<a href="{html.escape(links[r[0]])}">{text}</a>'
+                text = f'<a href="{html.escape(links[r[0]])}" title="case {text}\'s own report">{text}</a>'
             cls = f' class="{html.escape(v)}"' if j == status_col else ""
             cells.append(f"<td{cls}>{text}</td>")
         lines.append("<tr>" + "".join(cells) + "</tr>")
@@ -183,9 +185,36 @@ def _sweep_page(d: Path, max_frame_bytes: int) -> str:
                              f"{sweep.get('failed', '?')} failed), varying {varied or 'nothing'}"
                              + (f"; set: {', '.join(sweep['set'])}" if sweep.get("set") else "")),
         "HEAD": head, "ROWS": "\n".join(lines), "IMAGE": image, "DATA": data,
-        "NOTE": ("Each case number links to that case's own report." if links else
-                 "The sweep kept no results folder per case, so there is no per-case report."),
+        "NOTE": _sweep_note(sweep, links),
     })
+
+
+def _sweep_note(sweep: dict, links: dict) -> str:
+    """What the page says of the per-case reports: where the links are, or why there are none."""
+    if links:
+        return (f"The number of each case that ran ok links to its own report (cases/&lt;case&gt;/{REPORT}); "
+                "a failed case has none: its status and error say why.")
+    if sweep.get("keep_cases"):
+        return "No case ran ok, so no case has a results folder or a report of its own."
+    return ("The sweep kept no results folder per case, so there is no per-case report: run it with "
+            "<code>--keep-cases</code> (<code>sweep(..., keep_cases=True)</code> from Python) for a link from "
+            "each case to its own report.")
+
+
+def _relist(root: Path, path: Path) -> None:
+    """Refresh ``path``'s size and SHA-256 in ``root``'s manifest where it lists it (a case's own
+    manifest, which its report has just changed, in the sweep's manifest)."""
+    m = root / MANIFEST
+    try:
+        data = json.loads(m.read_text())
+    except (OSError, ValueError):
+        return
+    rel = path.relative_to(root).as_posix()
+    if m.is_symlink() or not isinstance(data, dict) or data.get("format") != MANIFEST_FORMAT \
+            or not isinstance(data.get("files"), dict) or rel not in data["files"] or not path.is_file():
+        return
+    data["files"][rel] = {"size": path.stat().st_size, "sha256": hashlib.sha256(path.read_bytes()).hexdigest()}
+    _atomic_write(m, json.dumps(data, indent=2) + "\n")
 
 
 def _short(v: str) -> str:

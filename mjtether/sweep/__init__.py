@@ -2,6 +2,7 @@
 
     mjtether sweep SCENARIO.toml --vary KEY=SPEC [--vary ...] [--samples K [--seed S]]
                    [--set KEY=VALUE ...] [--jobs N | --ray [ADDRESS]] --out DIR [--overwrite] [--restart]
+                   [--keep-cases] [--report]
 
 ``--vary tether.length=200:1000:9`` is START:STOP:COUNT (inclusive, as ``numpy.linspace``; numbers
 and integers only); ``--vary water.current.surface_speed_kn=0,1,2`` is a list (any kind of key;
@@ -18,7 +19,8 @@ never allows (type, range, choices); the scenario file itself; and (for a produc
 for which every case is invalid, with the first case's reason. A case invalid only in combination
 (e.g. an anchor below a seabed made shallower by another key) is recorded as failed with the reason.
 
-Running: each case is ``runner.run(sc, keep_nodes=False)``. ``--jobs 1`` (the default) runs them
+Running: each case is ``runner.run(sc, keep_nodes=False)`` (``keep_nodes=True`` with
+``--keep-cases``: the recorded nodes do not change the run). ``--jobs 1`` (the default) runs them
 in this process; ``--jobs N`` runs N at a time: N - 1 worker processes of a
 ``concurrent.futures.ProcessPoolExecutor`` (``spawn`` context: MuJoCo and ``fork`` do not mix)
 take cases from the front of the queue while this process takes them from the back (so the
@@ -44,7 +46,21 @@ renamed into place complete, with a manifest):
 * ``summary.png``: peak ship-end tension and length on the seabed at the end against the first
   varied key, coloured by the second; failed cases marked with a red x along the bottom.
 * ``sweep.json``: the sweep (scenario file, ``--set``, ``--vary``, samples, seed, each case's
-  overrides, versions, counts); ``scenario.toml``: the scenario file as read.
+  overrides, versions, counts, ``keep_cases`` and ``case_folders``, the cases that have one);
+  ``scenario.toml``: the scenario file as read;
+* with ``--keep-cases`` (``keep_cases=True``): ``cases/<i>/`` (``i`` the ``case`` of
+  ``cases.csv``) for each case that ran ok, its whole results folder as ``mjtether run --out``
+  writes it (``io.results.write``; a network's ``network.run.write``: ``timeseries.csv``,
+  ``lines.npz``, ``summary.json``, the plots, its own manifest), from the same run as its row
+  (its figures are the row's, bit for bit). A failed case has none. Each is written by the
+  process that runs the case (a worker process too) into the progress folder
+  (``folders/<key>/``, staged and renamed complete), and put into ``DIR``'s staging folder
+  (hard links, else copies) when the sweep is done, so ``DIR`` still appears complete or not at
+  all, every file in its manifest. Not with ``--ray`` (refused: a cluster's nodes need not share
+  this disk). A resumed case that an earlier run finished without its folder (a sweep without
+  ``--keep-cases``) is run again for it (the same deterministic run: the same figures); a
+  failed case is not. ``mjtether report DIR`` (``--report``) writes each case's ``report.html``
+  too, and the sweep's table links each case number to ``cases/<i>/report.html``.
 
 Parquet needs pyarrow, an optional dependency (``pip install mjtether[sweep]``, also in ``dev``):
 it is about 170 MB installed, too much to impose on every user of ``mjtether run``. Without it
@@ -199,11 +215,15 @@ def __getattr__(name: str):
 
 def sweep(scenario, vary: list[str], out, *, sets=(), samples: int | None = None, seed: int = 0,
           jobs: int | None = None, ray: str | None = None, overwrite: bool = False, restart: bool = False,
-          progress: bool = True, log=print) -> Path:
+          keep_cases: bool = False, progress: bool = True, log=print) -> Path:
     """The ``mjtether sweep`` command from Python; returns the results folder. Raises
-    SweepError, KeyboardInterrupt or SystemExit (SIGTERM) — the finished cases are kept."""
+    SweepError, KeyboardInterrupt or SystemExit (SIGTERM) — the finished cases are kept.
+    ``keep_cases``: ``--keep-cases`` (each case that ran ok keeps its results folder, ``cases/<i>/``)."""
     if jobs is not None and jobs < 1:
         raise SweepError(f"--jobs {jobs}: must be at least 1")
+    if keep_cases and ray is not None:
+        raise SweepError("--keep-cases is not available with --ray (a cluster's nodes need not share this disk); "
+                         "use --jobs N, or leave out --keep-cases")
     if ray is not None:
         _import_ray()
     network = load_network(scenario)  # (None: a scenario)
@@ -222,11 +242,14 @@ def sweep(scenario, vary: list[str], out, *, sets=(), samples: int | None = None
     try:
         records = {}
         todo = []
-        reused = 0
+        reused = again = 0
         by_key = {}
         for c in plan.cases:
             if c.sc is None:
                 continue
+            if keep_cases and c.key in done and done[c.key].get("status") == "ok" and not journal.has_folder(c):
+                del done[c.key]  # finished without its folder (by a sweep without --keep-cases): run again
+                again += 1
             if c.key in done:
                 records[c.index] = done[c.key]
                 reused += 1
@@ -244,6 +267,7 @@ def sweep(scenario, vary: list[str], out, *, sets=(), samples: int | None = None
         else:
             how = f"{jobs} at a time" if jobs and jobs > 1 else "in this process"
         log(f"mjtether sweep: {n} cases" + (f", {reused} finished earlier" if reused else "")
+            + (f", {again} finished earlier without their folder (run again for --keep-cases)" if again else "")
             + (f", {invalid} invalid" if invalid else "") + (f"; running {len(todo)} ({how})" if todo else ""))
         from tqdm import tqdm
 
@@ -266,12 +290,19 @@ def sweep(scenario, vary: list[str], out, *, sets=(), samples: int | None = None
                 if todo and ray is not None:
                     run_ray(todo, ray or None, jobs, on_result)
                 elif todo:
-                    run_local(todo, jobs or 1, on_result)
+                    run_local(todo, jobs or 1, on_result, journal.folder if keep_cases else None)
+        except OutputError as exc:  # a case's results folder could not be written (a full disk)
+            raise SweepError(f"{exc}; the finished cases are kept in {str(journal.dir)!r}", code=1) from None
         finally:
             bar.close()
         wall = time.perf_counter() - t0
+        folders = None
+        if keep_cases:
+            folders = {c.index: journal.folder(c) for c in plan.cases
+                       if c.sc is not None and (records.get(c.index) or {}).get("status") == "ok"
+                       and journal.has_folder(c)}
         try:
-            path = write_results(target, plan, records, overwrite=overwrite)
+            path = write_results(target, plan, records, overwrite=overwrite, folders=folders)
         except OutputError as exc:
             raise SweepError(f"{exc}; the finished cases are kept in {str(journal.dir)!r}", code=1) from None
     finally:
@@ -301,7 +332,8 @@ def cli(args) -> int:
     """``mjtether sweep`` (``args`` from the cli's parser)."""
     try:
         sweep(args.scenario, args.vary, args.out, sets=args.set, samples=args.samples, seed=args.seed,
-              jobs=args.jobs, ray=args.ray, overwrite=args.overwrite, restart=args.restart)
+              jobs=args.jobs, ray=args.ray, overwrite=args.overwrite, restart=args.restart,
+              keep_cases=getattr(args, "keep_cases", False))
     except SweepError as exc:
         print(f"mjtether sweep: {exc}", file=sys.stderr)
         return exc.code

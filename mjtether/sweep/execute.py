@@ -46,12 +46,16 @@ class _RunProbe:
             self.touchdown_end = touchdown
 
 
-def run_case(sc: Scenario | Network) -> dict:
+def run_case(sc: Scenario | Network, folder=None) -> dict:
     """Run one case (in whichever process): its figures (``COLUMNS``; a network's:
     ``run_network_case``), ``status`` and ``error``. Never raises for a failing case;
-    KeyboardInterrupt and SystemExit pass through."""
+    KeyboardInterrupt and SystemExit pass through. ``folder`` (``--keep-cases``): where a case
+    that ran ok also writes its whole results folder, as ``mjtether run --out`` does
+    (``io.results.write``: staged beside it, renamed into place complete, with its manifest; an
+    earlier one there is replaced), from the same run as the figures; a failed case writes none.
+    An error writing it (``OutputError``: a full disk) is not the case's: it is raised."""
     if isinstance(sc, Network):
-        return run_network_case(sc)
+        return run_network_case(sc, folder)
     from mjtether.io.results import summary
     from mjtether.scenario.runner import RECORD_FIELDS, RunFailed, run
 
@@ -62,8 +66,9 @@ def run_case(sc: Scenario | Network) -> dict:
     rec = {name: None for name, _ in COLUMNS}
     rec.update(status="ok", error="", started_at=_iso(started))
     probe = _RunProbe()
+    history = None
     try:
-        rows, _, info = run(sc, keep_nodes=False, on_start=probe.start, on_end=probe.end)
+        rows, history, info = run(sc, keep_nodes=folder is not None, on_start=probe.start, on_end=probe.end)
     except (RunFailed, SimulationDiverged, ValueError, RuntimeError) as exc:
         rec.update(status="failed", error=str(exc) or type(exc).__name__)
         _failed_figures(rec, exc, probe, SimulationDiverged)
@@ -83,14 +88,20 @@ def run_case(sc: Scenario | Network) -> dict:
                        touchdown_start_m=probe.touchdown_start, touchdown_end_m=probe.touchdown_end,
                        min_node_z_m=float(rows[:, col["tether_lowest_z"]].min()))
     rec["wall_s"] = time.perf_counter() - t0
+    if folder is not None and rec["status"] == "ok":
+        from mjtether.io.results import write
+
+        write(folder, sc, rows, history, info, overwrite=True)
     return rec
 
 
-def run_network_case(net: Network) -> dict:
+def run_network_case(net: Network, folder=None) -> dict:
     """Run one network case (``mjtether.network.run.simulate``, ``r.sim`` closed after): its
     figures (``plan.network_columns``: each line's peak and final end tensions, N, from the
-    time series), ``status`` and ``error``, as ``run_case``."""
-    from mjtether.network.run import columns, simulate
+    time series), ``status`` and ``error``, as ``run_case``; with ``folder``, a case that ran
+    ok writes its results folder there as ``mjtether run --out`` does (``network.run.write``,
+    staged, with its manifest)."""
+    from mjtether.network.run import columns, simulate, write
 
     from ..simulation import SimulationDiverged
 
@@ -118,8 +129,15 @@ def run_network_case(net: Network) -> dict:
                 rec[f"line{ln.name}_final_B_tension_N"] = float(b[-1])
             rec.update(peak_tension_N=max(peaks) if peaks else None, timestep_s=float(r.timestep),
                        initial_state=r.note)
+            rec["wall_s"] = time.perf_counter() - t0
+            if folder is not None:
+                from mjtether.files.outdir import Staging, check_target
+
+                with Staging(check_target(folder, overwrite=True), overwrite=True) as stage:
+                    write(r, rows, stage, wall_time=rec["wall_s"])
         finally:
             r.sim.close()
+        return rec
     rec["wall_s"] = time.perf_counter() - t0
     return rec
 
@@ -157,24 +175,35 @@ def _claim(claims, i: int) -> bool:
         return True
 
 
-def _claim_and_run(i: int, sc: Scenario | Network) -> dict | None:
-    """In a worker: run case ``i`` unless the main process took it (then None)."""
-    return run_case(sc) if _claim(_CLAIMS, i) else None
+def _claim_and_run(i: int, sc: Scenario | Network, folder=None) -> dict | None:
+    """In a worker: run case ``i`` unless the main process took it (then None); ``folder``: as
+    ``run_case``'s (the worker writes the case's results folder itself)."""
+    return _run_one(sc, folder) if _claim(_CLAIMS, i) else None
+
+
+def _run_one(sc, folder):
+    """``run_case``, looked up at call time (tests replace it), given ``folder`` only where there is one."""
+    return run_case(sc) if folder is None else run_case(sc, folder)
 
 
 # ------------------------------------------------------------------ running them
 
 
-def run_local(cases: list[Case], jobs: int, on_result) -> None:
+def run_local(cases: list[Case], jobs: int, on_result, folder_of=None) -> None:
     """Run ``cases``, ``jobs`` at a time, calling ``on_result(case, record)`` in this process as
-    each finishes. ``jobs`` > 1: every case is submitted to a pool of ``jobs - 1`` worker
+    each finishes; ``folder_of(case)``, where given, the folder each case's results go to
+    (``run_case``'s ``folder``: written by whichever process runs it, a worker or this one).
+    ``jobs`` > 1: every case is submitted to a pool of ``jobs - 1`` worker
     processes, which take them from the front, while this process takes them from the back;
     a shared flag per case says who took it (a worker handed a case already taken skips it).
     (Cancelling queued futures instead would be simpler, but Python 3.11's executor then fails
     on them when its workers are stopped after a Ctrl-C.)"""
+    def folder(c):
+        return None if folder_of is None else folder_of(c)
+
     if jobs <= 1 or len(cases) <= 1:
         for c in cases:
-            on_result(c, run_case(c.sc))
+            on_result(c, _run_one(c.sc, folder(c)))
         return
     ctx = multiprocessing.get_context("spawn")
     claims = ctx.Array("b", len(cases))
@@ -185,7 +214,7 @@ def run_local(cases: list[Case], jobs: int, on_result) -> None:
     try:
         with _worker_start():  # the worker processes start during these submits
             for i, c in enumerate(cases):
-                futures[ex.submit(_claim_and_run, i, c.sc)] = c
+                futures[ex.submit(_claim_and_run, i, c.sc, folder(c))] = c
         back = len(cases) - 1
         while futures or back >= 0:
             for f in [f for f in futures if f.done()]:
@@ -201,7 +230,7 @@ def run_local(cases: list[Case], jobs: int, on_result) -> None:
                 else:  # a worker has it, so it has taken every case before it too
                     back = -1
             if mine is not None:
-                on_result(mine, run_case(mine.sc))
+                on_result(mine, _run_one(mine.sc, folder(mine)))
             elif futures:
                 cf.wait(list(futures), return_when=cf.FIRST_COMPLETED)
         clean = True

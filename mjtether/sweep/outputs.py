@@ -49,6 +49,8 @@ class Journal:
     """The progress folder of a sweep into ``target`` (see the package docstring)."""
 
     MARK = "progress.json"
+    FOLDERS = "folders"
+    """Beside ``cases/``: ``folders/<key>/``, the results folder of each finished case (``--keep-cases``)."""
 
     def __init__(self, target: Path):
         self.target = Path(target)
@@ -64,9 +66,10 @@ class Journal:
                                  "and was not made by mjtether; move it away or choose another --out")
         d.mkdir(parents=True, exist_ok=True)
         self._take_lock()
-        if restart and (d / "cases").is_dir():
-            shutil.rmtree(d / "cases")
-        (d / "cases").mkdir(exist_ok=True)
+        for sub in ("cases", self.FOLDERS):
+            if restart and (d / sub).is_dir():
+                shutil.rmtree(d / sub)
+            (d / sub).mkdir(exist_ok=True)
         mark = d / self.MARK
         if not mark.is_file():
             _atomic_write(mark, json.dumps({"format": PROGRESS_FORMAT, "target": str(self.target)}) + "\n")
@@ -108,6 +111,18 @@ class Journal:
     def add(self, case: Case, record: dict) -> None:
         data = {"format": PROGRESS_FORMAT, "key": case.key, "overrides": case.overrides, "record": record}
         _atomic_write(self.dir / "cases" / f"{case.key}.json", json.dumps(data, allow_nan=True) + "\n")
+
+    def folder(self, case: Case) -> Path:
+        """Where the results folder of ``case`` is written (``--keep-cases``; by ``results.write``,
+        staged beside it, so that a folder there is complete)."""
+        return self.dir / self.FOLDERS / case.key
+
+    def has_folder(self, case: Case) -> bool:
+        """Whether ``case``'s results folder is there, complete (its manifest is written last)."""
+        from mjtether.files.outdir import MANIFEST
+
+        p = self.folder(case)
+        return not p.is_symlink() and (p / MANIFEST).is_file()
 
     def close(self) -> None:
         if self._lock is not None:
@@ -263,8 +278,11 @@ def summary_figure(plan: Plan, names, rows):
     return fig
 
 
-def write_results(target: Path, plan: Plan, records: dict, *, overwrite: bool) -> Path:
-    """Stage and commit the results folder (``outdir.Staging``)."""
+def write_results(target: Path, plan: Plan, records: dict, *, overwrite: bool, folders: dict | None = None) -> Path:
+    """Stage and commit the results folder (``outdir.Staging``). ``folders`` (``--keep-cases``):
+    {case index: its results folder in the progress folder}, each put in as ``cases/<index>/``
+    (hard links where the file system has them, else copies: the progress folder keeps its own
+    until the results are in place); None: the sweep kept none."""
     import mujoco
 
     from mjtether import __version__
@@ -277,6 +295,8 @@ def write_results(target: Path, plan: Plan, records: dict, *, overwrite: bool) -
         if parquet:
             write_parquet(st.path / "cases.parquet", plan, names, rows)
         plot(st.path / "summary.png", plan, names, rows)
+        for i, src in sorted((folders or {}).items()):
+            _link_tree(Path(src), st.path / "cases" / str(i))
         (st.path / plan.copy_name).write_text(plan.text)
         n_ok = sum(1 for r in rows if r[names.index("status")] == "ok")
         meta = {"format": FORMAT, **({"kind": "network", "copy": plan.copy_name} if plan.kind == "network" else {}),
@@ -284,11 +304,24 @@ def write_results(target: Path, plan: Plan, records: dict, *, overwrite: bool) -
                 "vary": [{"key": v.key, "spec": v.spec, "column": v.column} for v in plan.varies],
                 "samples": plan.samples, "seed": plan.seed if plan.samples else None,
                 "parquet": parquet, "cases": len(rows), "ok": n_ok, "failed": len(rows) - n_ok,
+                "keep_cases": folders is not None, "case_folders": sorted(folders or {}),
                 "columns": {n: m for n, m in columns_of(plan)},
                 "case_overrides": [c.overrides for c in plan.cases],
                 "mjtether": __version__, "mujoco": mujoco.__version__}
         (st.path / "sweep.json").write_text(json.dumps(meta, indent=2) + "\n")
         return st.commit()
+
+
+def _link_tree(src: Path, dst: Path) -> None:
+    """``src``'s files at ``dst``: hard links (no copy of the data), or copies where linking fails."""
+
+    def link(a, b):
+        try:
+            os.link(a, b)
+        except OSError:
+            shutil.copy2(a, b)
+
+    shutil.copytree(src, dst, copy_function=link, symlinks=True)
 
 
 def check_out(out, *, overwrite: bool, scenario) -> Path:
