@@ -43,13 +43,14 @@ class ReplayError(ValueError):
     """The folder cannot be replayed (the message says why, in one line)."""
 
 
-def _restore(x):
-    """``summary.json``'s scenario back to what ``load_scenario(data=...)`` takes: the
-    non-finite numbers it stores as text ("inf") as numbers, keys without a value left out."""
+def restore(x):
+    """``summary.json``'s scenario or network back to what ``load_scenario(data=...)`` and
+    ``network.from_dict`` take: the non-finite numbers it stores as text ("inf", as
+    ``files.results_folder.jsonable`` writes them) as numbers, keys without a value left out."""
     if isinstance(x, dict):
-        return {k: _restore(v) for k, v in x.items() if v is not None}
+        return {k: restore(v) for k, v in x.items() if v is not None}
     if isinstance(x, list):
-        return [_restore(v) for v in x]
+        return [restore(v) for v in x]
     if isinstance(x, str) and x in ("inf", "-inf", "nan"):
         return float(x)
     return x
@@ -102,7 +103,7 @@ class Saved:
             raise ReplayError(f"{where}/summary.json: unreadable ({exc.__class__.__name__}: {exc})") from None
         self.tethered, self.vehicle = bool(run.get("tethered", True)), bool(run.get("vehicle", True))
         try:
-            self.sc = load_scenario(data=_restore(raw), name=f"{where}/summary.json")
+            self.sc = load_scenario(data=restore(raw), name=f"{where}/summary.json")
         except ScenarioError as exc:
             raise ReplayError(f"cannot rebuild the scenario: {exc}") from None
         npz = lines_npz.FILE if (d / lines_npz.FILE).is_file() or not (d / lines_npz.OLD_FILE).is_file() \
@@ -271,7 +272,7 @@ class SavedNetwork:
         if not isinstance(summary["network"], dict):
             raise ReplayError(f"{where}/summary.json: network must be a table (the network's TOML tree)")
         try:
-            self.net = from_dict(summary["network"], name=f"{where}/summary.json")
+            self.net = from_dict(restore(summary["network"]), name=f"{where}/summary.json")
             self.simulated_s = float(summary["simulated_s"])
         except (NetworkError, ValueError, TypeError, KeyError, AttributeError) as exc:
             raise ReplayError(f"cannot rebuild the network from {where}/summary.json: {exc}") from None

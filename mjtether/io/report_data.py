@@ -37,6 +37,7 @@ from pathlib import Path
 import numpy as np
 
 from mjtether.files.results_folder import LINES, SUMMARY, TIMESERIES
+from mjtether.io.replay import restore
 
 MAGIC = b"MJR1"
 MAX_FRAME_BYTES = 6_000_000
@@ -131,23 +132,12 @@ def _finite(v):
     return v
 
 
-def _uninf(x):
-    """``x`` with the summary's texts of non-finite floats as floats again (``results_folder.jsonable``)."""
-    if isinstance(x, dict):
-        return {k: _uninf(v) for k, v in x.items()}
-    if isinstance(x, list):
-        return [_uninf(v) for v in x]
-    if isinstance(x, str) and x in ("inf", "-inf", "nan"):
-        return float(x)
-    return x
-
-
 def scenario_of(summary: dict):
     """The checked ``Scenario`` of a scenario run's summary, or None where it cannot be rebuilt
     (a file it names has moved): the report then draws a plane seabed and a flat sea."""
     from mjtether.scenario import load_scenario
     try:
-        return load_scenario(data=_uninf(summary["scenario"]))
+        return load_scenario(data=restore(summary["scenario"]))
     except Exception:  # (any failure: the report goes on without what it would add)
         return None
 
@@ -157,7 +147,7 @@ def network_of(summary: dict):
     or None where it cannot be rebuilt (a file it names has moved): the report then draws a flat sea."""
     from mjtether.network import from_dict
     try:
-        return from_dict(_uninf(summary["network"]), name="summary.json")
+        return from_dict(restore(summary["network"]), name="summary.json")
     except Exception:  # (any failure: the report goes on without what it would add)
         return None
 

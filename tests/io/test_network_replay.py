@@ -174,3 +174,19 @@ def test_an_older_folder_without_the_network_is_refused(results, tmp_path):
     (folder / "summary.json").write_text(json.dumps(summary))
     with pytest.raises(ReplayError, match=r"summary.json: holds no network \(written by an older mjtether"):
         replay(folder, tmp_path / "v.mp4", VideoSettings(64, 48))
+
+
+def test_a_network_with_a_scenario_style_current_replays(tmp_path):
+    """A network whose ``[water.current]`` is written as a scenario writes it (here a 1/7 power
+    law) stores the current's whole section in summary.json, with the Gauss-Markov defaults'
+    infinite bounds as text ("-inf", JSON has no infinity); the replay reads them back as
+    numbers and rebuilds the network (before: refused, "must be a number in [-inf, inf] deg")."""
+    net = json.loads(json.dumps(NET))
+    net["water"] = {"depth": 50.0, "current": {"type": "power", "surface_speed": 0.3, "exponent": 0.142857,
+                                               "heading_deg": 90.0}}
+    folder = tmp_path / "res"
+    nrun.run_to(from_dict(net), folder, plots=False)
+    stored = json.loads((folder / "summary.json").read_text())["network"]["water"]["current"]
+    assert stored["gauss_markov"]["heading_min_deg"] == "-inf"  # (the case this test is about)
+    saved = SavedNetwork(folder)
+    assert saved.net.current == from_dict(net).current and saved.net.current is not None
