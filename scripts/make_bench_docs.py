@@ -64,6 +64,7 @@ RUNS: dict[str, tuple[list[str], str]] = {
     "bench_constructions": (["scripts/bench_constructions.py", "--json"], ""),
     "bench_moordyn": (["scripts/bench_moordyn.py", "--json"], ""),
     "bench_waves": (["scripts/bench_waves.py", "--json"], ""),
+    "bench_tangle": (["scripts/bench_tangle.py", "--json"], ""),
 }
 
 MARKER = re.compile(r"<!--bench:(?P<ref>[^>]*?)-->(?P<text>.*?)<!--/bench-->")
