@@ -8,7 +8,8 @@ gzip, base64) are inlined, decoded in the page (``DecompressionStream``), and a
 Content-Security-Policy forbids every fetch. It shows a 3-D replay of every line coloured by
 tension, the points, bodies, ship and robot as markers at their positions, the seabed and the sea
 surface (moving where the run had waves), with play, pause, scrub and speed; and a time cursor
-tied to plots of end tensions (with the rated-load band), tension along each line at the cursor,
+tied to plots of end tensions (with the rated-load band, where the rating is within
+``report_data.RATED_IN_VIEW`` times the run's largest tension), tension along each line at the cursor,
 the touchdown and the payout. Long runs are shown at every k-th sample (``report_data.MAX_FRAME_BYTES``;
 the page says so). A sweep's page is a table of its cases, with links to each case's report where
 a case has a results folder of its own.

@@ -40,6 +40,11 @@ from mjtether.files.results_folder import LINES, SUMMARY, TIMESERIES
 from mjtether.io.replay import restore
 
 MAGIC = b"MJR1"
+RATED_IN_VIEW = 2.0
+"""The rated load sets the colour scale and is drawn as a band on the tension plots where it is at
+most this many times the run's largest element tension (as ``line_tension.png`` draws it); further
+off, the run's own largest tension sets the scale and the page says where the rating is (a rated
+load of 1500 N on an ROV's umbilical pulling 4 N would draw every curve flat and the cable dark)."""
 MAX_FRAME_BYTES = 6_000_000
 """The largest size (bytes, float32 before compression) of the per-frame arrays: longer runs keep
 every k-th sample (``frame_indices``). The page, base64 of gzip, is then under ~9 MB with the
@@ -300,6 +305,7 @@ def collect(folder: Path, budget: int = MAX_FRAME_BYTES) -> tuple[dict, dict]:
         seabed["grid"] = GRID
     rated = _finite((scenario.get("tether") or {}).get("rated_load")) if kind == "scenario" else None
     rated = rated if rated is not None and math.isfinite(rated) and rated > 0 else None
+    in_view = rated is not None and rated <= RATED_IN_VIEW * peak  # (else it flattens the colours and plots)
     plots, ts_arrays = _plots(summary, ts, names)
     arrays.update({f"ts/{c}": ts[c] for c in ts_arrays})
     meta = {
@@ -311,9 +317,12 @@ def collect(folder: Path, budget: int = MAX_FRAME_BYTES) -> tuple[dict, dict]:
         "markers": marker_meta,
         "frames": {"kept": int(len(idx)), "samples": int(len(t_all)),
                    "stride": int(idx[1] - idx[0]) if len(idx) > 1 else 1},
-        "tension_scale": {"max_N": rated or (peak if peak > 0 else 1.0),
-                          "source": "rated load" if rated else "the run's largest element tension"},
+        "tension_scale": {"max_N": rated if in_view else (peak if peak > 0 else 1.0),
+                          "source": "rated load" if in_view else "the run's largest element tension"},
         "rated_load_N": rated,
+        "rated_band_N": rated if in_view else None,
+        "rated_note": None if rated is None or in_view else
+        f"rated load {rated:.4g} N, {rated / max(peak, 1e-300):.0f}x the largest tension here: off the scale",
         "seabed": seabed, "surface": surface, "plots": plots,
         "scene": {"lo": [float(v) for v in lo], "hi": [float(v) for v in hi]},
     }

@@ -225,10 +225,15 @@ def test_decimated_page_keeps_every_kth_frame(walker, tmp_path):
 
 def test_waves_rated_load(waves):
     """The sea surface of a regular wave against Airy's eta = H/2 cos(k(x cos b + y sin b) - w t + p),
-    k from w^2 = g k tanh(k h) solved here (float32 of ~1 m: 1e-5 m); the rated load sets the scale."""
+    k from w^2 = g k tanh(k h) solved here (float32 of ~1 m: 1e-5 m). This short line's tension
+    peaks at about 10 N under its 800 N rating: more than ``RATED_IN_VIEW`` (2) times off, so the
+    run's own largest tension sets the colour scale and the rating is named, not drawn."""
     folder, page = waves
     meta, a = payload(page)
-    assert meta["rated_load_N"] == 800.0 and meta["tension_scale"]["max_N"] == 800.0
+    peak = float(np.max(a["line/tether/tension"]))
+    assert meta["rated_load_N"] == 800.0 and 2.0 * peak < 800.0
+    assert meta["tension_scale"]["max_N"] == pytest.approx(peak, rel=1e-6) and meta["rated_band_N"] is None
+    assert meta["rated_note"].startswith("rated load 800 N, ") and f"{800.0 / peak:.0f}x" in meta["rated_note"]
     eta = a["surface/eta"]
     n = meta["surface"]["grid"]
     x0, x1, y0, y1 = meta["surface"]["box"]
@@ -289,3 +294,21 @@ def test_sweep_report(tmp_path):
     assert "peak_ship_tension_N" in data["columns"] and text.count("<tr>") == 3
     assert "report.html" in json.loads((out / outdir.MANIFEST).read_text())["files"]
     assert outdir.foreign_content(out) is None
+
+
+def test_a_rated_load_near_the_run_sets_the_scale_and_is_drawn(waves, tmp_path):
+    """The same results with the rating at 1.5 times the run's largest element tension (within
+    ``RATED_IN_VIEW``): the rating sets the colour scale, the tension plots draw it as a band, and
+    there is no note."""
+    import shutil
+
+    folder, page = waves
+    peak = float(np.max(payload(page)[1]["line/tether/tension"]))
+    copy = tmp_path / "run"
+    shutil.copytree(folder, copy)
+    summary = json.loads((copy / "summary.json").read_text())
+    summary["scenario"]["tether"]["rated_load"] = 1.5 * peak
+    (copy / "summary.json").write_text(json.dumps(summary))
+    meta, _ = report_data.collect(copy, report_data.MAX_FRAME_BYTES)
+    assert meta["tension_scale"] == {"max_N": 1.5 * peak, "source": "rated load"}
+    assert meta["rated_band_N"] == 1.5 * peak and meta["rated_note"] is None

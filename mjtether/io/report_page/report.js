@@ -104,6 +104,9 @@ function drawPlot(id, series, opts) {
     el('line', { x1: L, x2: W - R, y1: Y(yb), y2: Y(yb), stroke: '#c22', 'stroke-dasharray': '5 3' }, svg);
     el('text', { x: W - R - 4, y: Y(yb) - 4, 'text-anchor': 'end', fill: '#c22' }, svg).textContent = 'rated load';
   }
+  if (opts.note) {
+    el('text', { x: W - R - 4, y: T + 14, 'text-anchor': 'end', fill: '#c22' }, svg).textContent = opts.note;
+  }
   for (const v of niceTicks(x0, x1)) {
     el('line', { x1: X(v), x2: X(v), y1: T, y2: H - B, stroke: '#eee' }, svg);
     el('text', { x: X(v), y: H - B + 14, 'text-anchor': 'middle' }, svg).textContent = fmt(v);
@@ -160,7 +163,7 @@ async function main() {
   const range = [tsT[0], tsT[tsT.length - 1]];
   const plots = {};
   plots.end = drawPlot('plot-end_tension', ends, { key: 'end_tension', xlabel: 'time (s)', ylabel: `tension (${unit})`, yScale: uScale,
-    band: meta.rated_load_N, xRange: range });
+    band: meta.rated_band_N, note: meta.rated_note, xRange: range });
   const tdT = A['td_t'].data;
   const tds = meta.plots.touchdown.map((s) => ({ label: s.label, x: tdT, y: A[s.array].data }))
     .filter((s) => s.y.some(Number.isFinite));
@@ -191,7 +194,7 @@ async function main() {
                y: A[`line/${l.name}/tension`].data.subarray(frame * e, (frame + 1) * e) };
     });
     const alongPlot = drawPlot('plot-along', along, { key: 'along', xlabel: 'arc length from end A (m)', ylabel: `tension (${unit})`, yScale: uScale,
-      band: meta.rated_load_N, xRange: [0, sMax], extra: { frame, time_s: t[frame] } });
+      band: meta.rated_band_N, note: meta.rated_note, xRange: [0, sMax], extra: { frame, time_s: t[frame] } });
     if (alongPlot.cursor) alongPlot.cursor.remove();
     for (const p of [plots.end, plots.td, plots.pay]) {
       if (p.cursor) { const x = p.toX(t[frame]); p.cursor.setAttribute('x1', x); p.cursor.setAttribute('x2', x); }
