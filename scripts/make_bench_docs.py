@@ -185,6 +185,21 @@ def _commit() -> str | None:
     return head + ("+dirty" if dirty else "")
 
 
+_NO_LOAD = object()
+
+
+def measured_block(command: str, wall_s: float, loadavg_before=_NO_LOAD) -> dict:
+    """The ``measured`` block of a JSON file of numbers shown in the docs: date, ``command``,
+    commit, ``wall_s`` (s), machine (with ``loadavg_before`` where given), Python, MuJoCo and
+    mjtether versions (the reproduction scripts write the same block)."""
+    machine = {"platform": platform.platform(), "cpu": _cpu_model(), "cpu_count": os.cpu_count()}
+    if loadavg_before is not _NO_LOAD:
+        machine["loadavg_before"] = loadavg_before
+    return {"date": datetime.date.today().isoformat(), "command": command, "commit": _commit(),
+            "wall_s": round(wall_s, 1), "machine": machine, "python": platform.python_version(),
+            "mujoco": importlib.metadata.version("mujoco"), "mjtether": importlib.metadata.version("mjtether")}
+
+
 def measure(name: str, bench_dir: Path = BENCH_DIR) -> Path:
     """Run benchmark ``name`` of RUNS once and write docs/bench/NAME.json."""
     args, note = RUNS[name]
@@ -196,17 +211,7 @@ def measure(name: str, bench_dir: Path = BENCH_DIR) -> Path:
         sys.exit(f"{' '.join(args)} failed ({r.returncode}):\n{r.stderr[-3000:]}")
     lines = [ln for ln in r.stdout.splitlines() if ln.strip()]
     result = json.loads(lines[-1])
-    measured = {
-        "date": datetime.date.today().isoformat(),
-        "command": "python " + " ".join(args),
-        "commit": _commit(),
-        "wall_s": round(wall, 1),
-        "machine": {"platform": platform.platform(), "cpu": _cpu_model(), "cpu_count": os.cpu_count(),
-                    "loadavg_before": load_before},
-        "python": platform.python_version(),
-        "mujoco": importlib.metadata.version("mujoco"),
-        "mjtether": importlib.metadata.version("mjtether"),
-    }
+    measured = measured_block("python " + " ".join(args), wall, loadavg_before=load_before)
     if note:
         measured["note"] = note
     bench_dir.mkdir(parents=True, exist_ok=True)

@@ -185,17 +185,8 @@ def results(quick: bool) -> dict:
 
 
 def measured(command: str, wall_s: float) -> dict:
-    """Where and when the numbers were made: the ``measured`` block of make_bench_docs.py."""
-    import datetime
-    import importlib.metadata
-    import os
-    import platform
-
-    return {"date": datetime.date.today().isoformat(), "command": command, "commit": mbd._commit(),
-            "wall_s": round(wall_s, 1),
-            "machine": {"platform": platform.platform(), "cpu": mbd._cpu_model(), "cpu_count": os.cpu_count()},
-            "python": platform.python_version(), "mujoco": importlib.metadata.version("mujoco"),
-            "mjtether": importlib.metadata.version("mjtether")}
+    """Where and when the numbers were made: make_bench_docs.py's ``measured`` block."""
+    return mbd.measured_block(command, wall_s)
 
 
 def write_json(result: dict, meas: dict, repro_dir: Path = REPRO_DIR) -> Path:

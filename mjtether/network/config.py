@@ -490,26 +490,27 @@ replaces the ``current_depths`` table; the density must be ``type = "constant"``
 statics take one density) and replaces ``rho``, its alias."""
 
 
-def _scenario_current(value):
-    """A ``scenario.Current`` from one, or from its table (a dict, as TOML gives it: ``[water.current]``)."""
+def _scenario_table(value, cls, what: str):
+    """A scenario section ``cls`` (``scenario.Current``, ``scenario.sea.Waves``) from one, or
+    from its table (a dict, as TOML gives it); ``what``: the key and the table, for the error."""
     from mjtether.scenario import config as scenario_config
-    from mjtether.scenario.sections import Current
     if isinstance(value, dict):
-        return scenario_config.build(Current, value)
-    if not isinstance(value, Current):
-        raise NetworkError(f"water.current must be a [water.current] table (a scenario.Current), got {value!r}")
+        return scenario_config.build(cls, value)
+    if not isinstance(value, cls):
+        raise NetworkError(f"{what}, got {value!r}")
     return value
+
+
+def _scenario_current(value):
+    """A ``scenario.Current`` from one, or from its table (``[water.current]``)."""
+    from mjtether.scenario.sections import Current
+    return _scenario_table(value, Current, "water.current must be a [water.current] table (a scenario.Current)")
 
 
 def _scenario_waves(value):
-    """A ``scenario.sea.Waves`` from one, or from its table (a dict, as TOML gives it: ``[waves]``)."""
-    from mjtether.scenario import config as scenario_config
+    """A ``scenario.sea.Waves`` from one, or from its table (``[waves]``)."""
     from mjtether.scenario.sea import Waves
-    if isinstance(value, dict):
-        return scenario_config.build(Waves, value)
-    if not isinstance(value, Waves):
-        raise NetworkError(f"waves must be a [waves] table (a scenario.sea.Waves), got {value!r}")
-    return value
+    return _scenario_table(value, Waves, "waves must be a [waves] table (a scenario.sea.Waves)")
 
 
 MAX_WAVE_OMEGA = 100.0
