@@ -181,12 +181,16 @@ def _self_clearance_numpy(nodes, min_arc, reach):
 def wrap_angle(nodes: np.ndarray, centre, radius: float) -> float:
     """How far the cable winds round a vehicle in plan view (rad, >= 0): the angle its nodes
     within ``radius`` (m, horizontally) of ``centre`` sweep about it, summed over consecutive
-    nodes that are both that close (one full turn of cable round the hull: 2 pi)."""
+    nodes that are both that close (one full turn of cable round the hull: 2 pi). An element
+    whose plan view passes over the centre (within 1e-9 of ``radius``: a cable hanging straight
+    under the vehicle) winds nothing: its sweep of +-pi would take its sign from rounding."""
     c = np.asarray(centre, dtype=float)
     rel = nodes[:, :2] - c[:2]
     near = np.hypot(rel[:, 0], rel[:, 1]) <= radius
     ang = np.arctan2(rel[:, 1], rel[:, 0])
-    both = near[:-1] & near[1:]
+    a, b = rel[:-1], rel[1:]
+    over = np.abs(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]) <= 1e-9 * radius * np.hypot(*(b - a).T)
+    both = near[:-1] & near[1:] & ~over
     if not both.any():
         return 0.0
     step = (np.diff(ang) + math.pi) % (2 * math.pi) - math.pi

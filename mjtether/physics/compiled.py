@@ -51,10 +51,20 @@ def backend() -> str:
     return "numba" if want == "numba" and numba is not None else "numpy"
 
 
-def jit(fn):
+def jit(fn=None, *, fma: bool = False):
     """numba's ``njit`` as every kernel of the package is compiled (cached, no GIL, NumPy's
-    error model), or ``fn`` itself where numba is missing."""
-    return fn if numba is None else numba.njit(cache=jitcache.CACHE, nogil=True, error_model="numpy")(fn)
+    error model), or ``fn`` itself where numba is missing. ``fma``: let LLVM fuse a multiply and
+    the add that takes its product into one fused multiply-add, rounded once instead of twice
+    (numba's ``fastmath={"contract"}`` alone: no reassociation, no change to NaN, infinity or
+    signed-zero handling); for the polynomial-heavy sea kernels, where it cuts a third of the time
+    and moves the answers by rounding (measured 2e-14 of the largest value against the NumPy
+    reference, ``waves.state_kernel``). ``@jit`` and ``@jit(fma=True)`` both work."""
+    if fn is None:
+        return lambda f: jit(f, fma=fma)
+    if numba is None:
+        return fn
+    return numba.njit(cache=jitcache.CACHE, nogil=True, error_model="numpy",
+                      fastmath={"contract"} if fma else False)(fn)
 
 
 # --------------------------------------------------------------------------- water profiles

@@ -285,20 +285,23 @@ class _Harmonic:
         self.ramp_s = _checks.non_negative("ramp_s", ramp_s, "s")
         self.compiled = compiled.backend() == "numba"  # (``motion_kernel`` at one time)
         self._re, self._im = np.ascontiguousarray(c.real), np.ascontiguousarray(c.imag)
-        self._last = (math.nan, None, None, None)  # (t, r, q (3, 6), the point r's motion (3, 3)): see _at
+        self._hq = np.array([math.cos(heading / 2), math.sin(heading / 2)])  # the heading's quaternion (w, z)
+        self._last = (math.nan, None, None, None, None)  # (t, r, q (3, 6), r's motion (3, 3), hull (4,)): _at
 
-    def _at(self, t: float, r: np.ndarray = None) -> tuple[np.ndarray, np.ndarray | None]:
-        """(q and its first two time derivatives (3, 6), and the offset, velocity and
-        acceleration (3, 3) of the point ``r`` (m, ship axes; None: not asked)) at one time
-        ``t`` (s), from one evaluation of each harmonic, kept for the next call at the same
-        ``t`` and ``r`` (the ship, the winch's compensator and the hull's pose all read the
-        motion of one step). Compiled (``motion_kernel``) where ``compiled``, else NumPy."""
+    def _at(self, t: float, r: np.ndarray = None) -> tuple[np.ndarray, np.ndarray | None, np.ndarray]:
+        """(q and its first two time derivatives (3, 6), the offset, velocity and acceleration
+        (3, 3) of the point ``r`` (m, ship axes; None: not asked), and the hull's attitude (4,),
+        ``hull``'s) at one time ``t`` (s), from one evaluation of each harmonic, kept for the next
+        call at the same ``t`` and ``r`` (the ship, the winch's compensator and the hull's pose
+        all read the motion of one step). Compiled (``motion_kernel``) where ``compiled``, else
+        NumPy."""
         last = self._last
         if t == last[0] and (r is None or r is last[1] or (last[1] is not None and np.array_equal(r, last[1]))):
-            return last[2], (None if r is None else last[3])
+            return last[2], (None if r is None else last[3]), last[4]
         if self.compiled:
-            q, p = np.empty((3, 6)), np.empty((3, 3))
-            motion_kernel(t, self._omega, self._re, self._im, self.ramp_s, _ORIGIN if r is None else r, self._R, q, p)
+            q, p, quat = np.empty((3, 6)), np.empty((3, 3)), np.empty(4)
+            motion_kernel(t, self._omega, self._re, self._im, self.ramp_s, _ORIGIN if r is None else r, self._R,
+                          self._hq, q, p, quat)
         else:
             e = np.exp(1j * t * self._omega)
             iw = 1j * self._omega
@@ -308,8 +311,9 @@ class _Harmonic:
                 a, da, dda = (float(v) for v in build_up(t, self.ramp_s))
                 q = np.array([a * q[0], a * q[1] + da * q[0], a * q[2] + 2.0 * da * q[1] + dda * q[0]])
             p = None if r is None else self._moved(q, r)
-        self._last = (t, r, q, p)
-        return q, (None if r is None else p)
+            quat = _hull_attitude(self._hq, q[0, 3:])
+        self._last = (t, r, q, p, quat)
+        return q, (None if r is None else p), quat
 
     def _q(self, t, order: int) -> np.ndarray:
         """The ``order``-th time derivative of q at times ``t`` (s): (6,) or (len(t), 6); with a
@@ -349,6 +353,18 @@ class _Harmonic:
             return PointMotion(*self._at(float(t), r)[1].copy())
         return PointMotion(*(self._moved(self._q(t, n), r) for n in range(3)))
 
+    def hull(self, r_body, t: float) -> tuple[np.ndarray, np.ndarray]:
+        """(offset (3,) m, world axes, of the point ``r_body`` (m, ship axes from the reference
+        point), the hull's attitude (4,): the unit quaternion w, x, y, z from the world to the
+        ship's axes, the heading turned by roll, pitch and yaw in that order about the turning
+        axes, as MuJoCo's ``mju_euler2Quat(.., "xyz")`` then ``mju_mulQuat(heading, ..)``) at one
+        time ``t`` (s), from the one evaluation of the step that ``point`` also reads: what a
+        ship's mocap body takes (``scenario.controllers.Ship.update``). New arrays."""
+        last = self._last[1]
+        r = last if r_body is last else _checks.vector3("r_body", r_body)
+        _, p, quat = self._at(_checks.finite("t", t), r)
+        return p[0].copy(), quat.copy()
+
     def _moved(self, q: np.ndarray, r: np.ndarray) -> np.ndarray:
         a, b = q[..., 3:], r  # (theta x r, written out: np.cross is slow on one vector)
         cross = np.stack([a[..., 1] * b[2] - a[..., 2] * b[1], a[..., 2] * b[0] - a[..., 0] * b[2],
@@ -359,14 +375,37 @@ class _Harmonic:
 _ORIGIN = np.zeros(3)
 
 
-@compiled.jit
-def motion_kernel(t, omega, c_re, c_im, ramp_s, r, R, q, p):
+def _hull_attitude(hq, rpy) -> np.ndarray:
+    """The hull's attitude (``_Harmonic.hull``): the heading's quaternion ``hq`` (cos, sin of
+    half the heading) times those of roll, pitch and yaw ``rpy`` (rad) about x, then the new y,
+    then the new z (NumPy; ``motion_kernel`` writes the same products out)."""
+    quat = np.empty(4)
+    _attitude(hq, rpy[0], rpy[1], rpy[2], quat)
+    return quat
+
+
+def _attitude(hq, roll, pitch, yaw, out):
+    cr, sr = math.cos(0.5 * roll), math.sin(0.5 * roll)
+    cp, sp = math.cos(0.5 * pitch), math.sin(0.5 * pitch)
+    cy, sy = math.cos(0.5 * yaw), math.sin(0.5 * yaw)
+    w, x, y, z = cr * cp, sr * cp, cr * sp, sr * sp  # q_x(roll) q_y(pitch)
+    w, x, y, z = w * cy - z * sy, x * cy + y * sy, y * cy - x * sy, w * sy + z * cy  # times q_z(yaw)
+    hw, hz = hq[0], hq[1]
+    out[0], out[1], out[2], out[3] = hw * w - hz * z, hw * x - hz * y, hw * y + hz * x, hw * z + hz * w
+
+
+_attitude_kernel = compiled.jit(fma=True)(_attitude)
+
+
+@compiled.jit(fma=True)
+def motion_kernel(t, omega, c_re, c_im, ramp_s, r, R, hq, q, p, quat):
     """``_Harmonic._at`` compiled: into ``q`` (3, 6) the six DOFs (ship axes, m and rad) and
     their first two time derivatives at time ``t`` (s), Re{sum_i c_i (i omega_i)^n
     e^{i omega_i t}} (``c_re``, ``c_im``: c's parts (n, 6); ``omega`` (n,), rad/s), times the
     build-up of ``ramp_s`` (s; ``waves.build_up``) by Leibniz's rule; into ``p`` (3, 3) the
     offset, velocity and acceleration (world, m, m/s, m/s^2) of the point ``r`` (m, ship axes):
-    (d + theta x r) turned by ``R`` (ship axes to world), as ``_moved``."""
+    (d + theta x r) turned by ``R`` (ship axes to world), as ``_moved``; into ``quat`` (4,) the
+    hull's attitude from the heading's ``hq`` (``_hull_attitude``)."""
     for n in range(3):
         for j in range(6):
             q[n, j] = 0.0
@@ -395,6 +434,7 @@ def motion_kernel(t, omega, c_re, c_im, ramp_s, r, R, q, p):
         z = q[n, 2] + (q[n, 3] * r[1] - q[n, 4] * r[0])
         for k in range(3):
             p[n, k] = R[k, 0] * x + R[k, 1] * y + R[k, 2] * z
+    _attitude_kernel(hq, q[0, 3], q[0, 4], q[0, 5], quat)
 
 
 OUTSIDE = ("error", "zero", "short_zero")

@@ -318,8 +318,9 @@ class WaveField:
     ``kinematics`` of 200 points x 100 components 310-370 us (Wheeler), 270-290 us ("none"),
     of which ``_sincos`` is 130 us (NumPy's sin and cos would be 500 us); ``elevation`` of one
     point 10-12 us. The compiled twin (``compiled``: True where it runs): 200 points x 100
-    components 49 us (the sines and cosines 30 us, the profiles 20 us), one point 5 us
-    (``scripts/bench_waves.py``); it keeps no state between calls."""
+    components 52 us on an Intel Xeon (76 us without fused multiply-adds; the sines and cosines
+    29 us, the profiles 23 us), one point 5 us (``scripts/bench_waves.py``); it keeps no state
+    between calls."""
 
     STRETCHINGS = ("wheeler", "none")
 
@@ -458,17 +459,31 @@ _S1, _S2, _S3, _S4, _S5, _S6 = _SIN[1:]
 
 
 @jit
+def _time_phases(phase, omega, t):
+    """The time part of the phases, phase - omega t reduced modulo 2 pi (``WaveField._theta``), as
+    NumPy rounds it: omega t is rounded before the subtraction (not fused with it, as
+    ``state_kernel``'s ``fma`` would: at t = 3 h, omega t ~ 4e4 rad, whose rounding is 4e-12 rad)."""
+    tk = np.empty(phase.shape[0])
+    for i in range(phase.shape[0]):
+        tk[i] = (phase[i] - omega[i] * t) % (2.0 * math.pi)
+    return tk
+
+
+@jit(fma=True)
 def state_kernel(p, t, table, depth, wheeler, ramp_s, eta, vel, acc, kinematics):
     """``WaveField.reference_state`` compiled, into ``eta`` (N,), ``vel`` and ``acc`` (N, 3)
     (only ``eta`` where ``kinematics`` is False; Wheeler stretching where ``wheeler``); ``table``
     (13, M): the components' kx, ky (rad/m), phase (rad), omega (rad/s), amplitude (m), k (rad/m),
     exp(-2 k h), then the velocity's and the acceleration's weights (``WaveField.__init__``).
 
-    The same expressions in the same order but for the sums over components (sequential here)
-    and two left-out terms: a component whose k z' is below -40 over a whole block of points
-    (4e-18 of its surface value; the reference clips k z' at -350), and exp evaluated as 2^n
-    times a Taylor series to r^13 (|r| <= ln 2 / 2: 4e-18 relative), so that the loops over a
-    block's points vectorise (the sine and cosine are the reference's ``_sincos``, written out)."""
+    The same expressions in the same order but for the sums over components (sequential here),
+    fused multiply-adds (``compiled.jit``'s ``fma``: each a * b + c rounded once; the time part
+    of the phases is not fused, ``_time_phases``) and two left-out terms: a component whose k z'
+    is below -40 over a whole block of points (4e-18 of its surface value; the reference clips
+    k z' at -350), and exp evaluated as 2^n times a Taylor series to r^13 (|r| <= ln 2 / 2:
+    4e-18 relative), so that the loops over a block's points vectorise (the sine and cosine are
+    the reference's ``_sincos``, written out). Measured against the reference: 2e-14 of the
+    largest value (1.5e-15 unfused), in a third less time."""
     n, m = p.shape[0], table.shape[1]
     kx, ky, phase, omega, amp, kk, qq = table[0], table[1], table[2], table[3], table[4], table[5], table[6]
     two_pi = 2.0 * math.pi
@@ -479,9 +494,7 @@ def state_kernel(p, t, table, depth, wheeler, ramp_s, eta, vel, acc, kinematics)
         inside = 0.0 < t
         r = 0.5 * (1.0 - math.cos(w * t)) if inside else 0.0
         dr = 0.5 * w * math.sin(w * t) if inside else 0.0
-    tk = np.empty(m)
-    for i in range(m):  # the time part of the phases, reduced modulo 2 pi (``_theta``)
-        tk[i] = (phase[i] - omega[i] * t) % two_pi
+    tk = _time_phases(phase, omega, t)
     b = max(min(n, _BLOCK), 1)
     sn, cs = np.empty((m, b)), np.empty((m, b))
     e, zs, ex, xb, yb = np.empty(b), np.empty(b), np.empty(b), np.empty(b), np.empty(b)

@@ -14,7 +14,6 @@ import bisect
 import math
 from dataclasses import dataclass, field
 
-import mujoco
 import numpy as np
 
 from mjtether.vehicles.allocation import allocate
@@ -94,6 +93,17 @@ class Ship:
 
     def advance(self, dt: float, t: float, robot: np.ndarray) -> np.ndarray:
         """Move the ship over ``dt`` (s) and return the fairlead position."""
+        p = self._sail(dt, robot)
+        if self.motion is not None:
+            return p + self.motion.point(self.fairlead_body, t).offset
+        if not self.heave_amplitude:
+            return p
+        heave = self.heave_amplitude * math.sin(2 * math.pi * t / self.heave_period)
+        return p + (0.0, 0.0, heave)
+
+    def _sail(self, dt: float, robot: np.ndarray) -> np.ndarray:
+        """Move the ship along its path over ``dt`` (s); the fairlead's position (m, world) on a
+        flat sea."""
         p = self.position
         if self.mode == "follow":
             target = np.array([robot[0], robot[1], p[2]]) + self.offset
@@ -109,26 +119,20 @@ class Ship:
             if dist > 0:
                 p = p + step * min(1.0, self.speed * dt / dist)
             self.position = p
-        if self.motion is not None:
-            return p + self.motion.point(self.fairlead_body, t).offset
-        if not self.heave_amplitude:
-            return p
-        heave = self.heave_amplitude * math.sin(2 * math.pi * t / self.heave_period)
-        return p + (0.0, 0.0, heave)
+        return p
 
     def update(self, run, t: float, dt: float) -> None:
         """Move the ship's mocap body, following the robot's tow point where it follows (with
         RAOs, turned by the ship's roll, pitch and yaw about the fairlead: the fairlead's motion
         is the RAOs' at its place, the hull drawn about it)."""
         tow = run.robot_position if run.named.tow_site is None else run.sim.data.site_xpos[run.named.tow_site]
-        d = run.sim.data
-        d.mocap_pos[run.named.ship_mocap] = self.advance(dt, t, tow)
-        if self.motion is not None:
-            small, q = np.zeros(4), np.zeros(4)
-            mujoco.mju_euler2Quat(small, self.motion.pose(t)[3:], "xyz")  # (roll, pitch, yaw in ship axes)
-            h = self.heading
-            mujoco.mju_mulQuat(q, np.array([math.cos(h / 2), 0.0, 0.0, math.sin(h / 2)]), small)
-            d.mocap_quat[run.named.ship_mocap] = q
+        d, body = run.sim.data, run.named.ship_mocap
+        if self.motion is None:
+            d.mocap_pos[body] = self.advance(dt, t, tow)
+            return
+        offset, attitude = self.motion.hull(self.fairlead_body, t)  # (one evaluation of the step's motion)
+        d.mocap_pos[body] = self._sail(dt, tow) + offset
+        d.mocap_quat[body] = attitude
 
 
 class WinchDrive:

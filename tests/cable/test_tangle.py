@@ -79,6 +79,18 @@ def test_wrap_angle_of_a_cable_wound_round_a_post():
     assert tangle.wrap_angle(line, [0.0, 0.0, 0.0], 10.0) == pytest.approx(2 * math.atan(5.0), rel=1e-9)
 
 
+@pytest.mark.parametrize("noise", [1e-17, -1e-17, 0.0])
+def test_a_cable_hanging_straight_under_a_vehicle_winds_nothing(noise):
+    """A catenary in the x-z plane through the hull's centre in plan view: 0, whatever sign the
+    rounding gives its nodes' y (a +-pi sweep each side had made 0, 180 or 360 deg by CPU)."""
+    x = np.linspace(-3.0, 3.0, 41)
+    y = noise * np.sign(x) * np.abs(x)  # (the sign of each half's offset from rounding)
+    cable = np.c_[x, y, 0.1 * x * x - 5.0]
+    assert tangle.wrap_angle(cable, [0.0, 0.0, -4.0], 3.58) == 0.0
+    cable[:, 1] += 0.05  # 5 cm to one side of the centre: the angle it subtends, 2 atan(3 / 0.05)
+    assert tangle.wrap_angle(cable, [0.0, 0.0, -4.0], 3.58) == pytest.approx(2 * math.atan(3.0 / 0.05), rel=1e-9)
+
+
 CROSSING = """
 [simulation]
 duration = 82.0

@@ -209,6 +209,30 @@ def test_one_time_and_many_times_give_the_same_motion(tmp_path, ramp_s):
                                ((after.offset - 2 * many.offset + before.offset) / dt ** 2)[inside], rtol=0, atol=1e-6)
 
 
+@pytest.mark.parametrize("kernels", ["numba", "numpy"])
+def test_the_hull_attitude_is_mujocos_euler_quaternion_turned_by_the_heading(tmp_path, monkeypatch, kernels):
+    """``hull``: the fairlead's offset is ``point``'s, and the attitude is what MuJoCo's own
+    ``mju_euler2Quat(rpy, "xyz")`` and ``mju_mulQuat(heading, .)`` make of ``pose``'s roll, pitch
+    and yaw (what the ship's mocap body took before), to 1e-15, with large angles so that every
+    product's sign shows; on the compiled kernel and on the NumPy twin."""
+    import mujoco
+    monkeypatch.setenv("MJTETHER_KERNELS", kernels)
+    rao = lambda T, h: {d: (0.2 + 0.05 * i + 12.0 * (i >= 3), 35.0 * i + h / 7) for i, d in enumerate(DOFS)}  # noqa: E731
+    table = RAOTable.from_csv(write_table(tmp_path / "six.csv", [2.0, 8.0, 30.0], ALL_HEADINGS, rao))
+    heading = 2.3
+    ship = ShipMotion(table, waves(5, seed=7), heading=heading, origin=(3.0, -1.0))
+    assert ship.compiled == (kernels == "numba")
+    r = np.array([-25.0, 3.0, 6.0])
+    for t in np.linspace(0.0, 30.0, 17):
+        offset, attitude = ship.hull(r, float(t))
+        np.testing.assert_array_equal(offset, ship.point(r, float(t)).offset)
+        small, want = np.zeros(4), np.zeros(4)
+        mujoco.mju_euler2Quat(small, ship.pose(float(t))[3:], "xyz")
+        mujoco.mju_mulQuat(want, np.array([math.cos(heading / 2), 0.0, 0.0, math.sin(heading / 2)]), small)
+        np.testing.assert_allclose(attitude, want, rtol=0, atol=1e-15)
+    assert np.abs(ship.pose(np.linspace(0.0, 30.0, 17))[:, 3:]).max() > 0.3  # (angles large enough to matter)
+
+
 def test_prescribed_heave():
     """z = A cos(2 pi t / T - phase): with phase 90 deg, 2 sin(2 pi t / 8); every point of the
     ship heaves alike; its velocity and acceleration are the closed-form derivatives.
