@@ -311,7 +311,8 @@ class _Harmonic:
                 a, da, dda = (float(v) for v in build_up(t, self.ramp_s))
                 q = np.array([a * q[0], a * q[1] + da * q[0], a * q[2] + 2.0 * da * q[1] + dda * q[0]])
             p = None if r is None else self._moved(q, r)
-            quat = _hull_attitude(self._hq, q[0, 3:])
+            quat = np.empty(4)
+            _attitude(self._hq, *q[0, 3:], quat)
         self._last = (t, r, q, p, quat)
         return q, (None if r is None else p), quat
 
@@ -375,16 +376,10 @@ class _Harmonic:
 _ORIGIN = np.zeros(3)
 
 
-def _hull_attitude(hq, rpy) -> np.ndarray:
-    """The hull's attitude (``_Harmonic.hull``): the heading's quaternion ``hq`` (cos, sin of
-    half the heading) times those of roll, pitch and yaw ``rpy`` (rad) about x, then the new y,
-    then the new z (NumPy; ``motion_kernel`` writes the same products out)."""
-    quat = np.empty(4)
-    _attitude(hq, rpy[0], rpy[1], rpy[2], quat)
-    return quat
-
-
 def _attitude(hq, roll, pitch, yaw, out):
+    """Into ``out`` (4,) the hull's attitude (``_Harmonic.hull``): the heading's quaternion ``hq``
+    (cos, sin of half the heading) times those of ``roll``, ``pitch`` and ``yaw`` (rad) about x,
+    then the new y, then the new z (the NumPy twin's; ``motion_kernel`` runs it compiled)."""
     cr, sr = math.cos(0.5 * roll), math.sin(0.5 * roll)
     cp, sp = math.cos(0.5 * pitch), math.sin(0.5 * pitch)
     cy, sy = math.cos(0.5 * yaw), math.sin(0.5 * yaw)
@@ -405,7 +400,7 @@ def motion_kernel(t, omega, c_re, c_im, ramp_s, r, R, hq, q, p, quat):
     build-up of ``ramp_s`` (s; ``waves.build_up``) by Leibniz's rule; into ``p`` (3, 3) the
     offset, velocity and acceleration (world, m, m/s, m/s^2) of the point ``r`` (m, ship axes):
     (d + theta x r) turned by ``R`` (ship axes to world), as ``_moved``; into ``quat`` (4,) the
-    hull's attitude from the heading's ``hq`` (``_hull_attitude``)."""
+    hull's attitude from the heading's ``hq`` (``_attitude``)."""
     for n in range(3):
         for j in range(6):
             q[n, j] = 0.0

@@ -58,7 +58,6 @@ class Ship:
     _wp: int = field(default=0)
     motion: object = None
     fairlead_body: np.ndarray = field(default_factory=lambda: np.zeros(3))
-    heading: float = 0.0  # rad, the ship's +x in the world (the RAOs' ship axes)
 
     @classmethod
     def from_scenario(cls, sc, waves=None) -> "Ship":
@@ -76,7 +75,7 @@ class Ship:
             ship.motion = ShipMotion(RAOTable.from_csv(s.motion.rao_file), waves.components, h, origin=origin,
                                      outside="short_zero" if s.motion.short_waves == "zero" else "error",
                                      ramp_s=waves.ramp_s)
-            ship.fairlead_body, ship.heading = r, h
+            ship.fairlead_body = r
         return ship
 
     def wave_motion(self, t: float) -> tuple[np.ndarray, np.ndarray]:
