@@ -17,7 +17,7 @@ import mujoco
 import numpy as np
 
 from mjtether import _checks
-from mjtether.cable import kernels, softening
+from mjtether.cable import kernels, softening, stepping
 from mjtether.cable.bound import BoundTether
 from mjtether.cable.builder import TetherModel
 from mjtether.cable.drum import FAIRLEAD_SHARE, MERGE, SPLIT, START_SLACK  # noqa: F401 - the flat layout's names
@@ -68,6 +68,10 @@ class Simulation:
     it (the scenario and the network runners pass False: they warn naming their own keys).
     """
 
+    compiled_steps = True
+    """Step tethers in compiled blocks where ``cable.stepping.usable`` (False, on the class or
+    one simulation: the Python loop always; the same bits, ``tests/cable/test_stepping.py``)."""
+
     def __init__(self, spec: mujoco.MjSpec, water: WaterColumn, tethers=(), bodies=(), warn_EA: bool = True):
         if not isinstance(water, WaterColumn):
             raise ValueError(f"water must be a WaterColumn, got {type(water).__name__}")
@@ -104,6 +108,8 @@ class Simulation:
         self._providers = [*self.tethers.values(), *self.bodies]
         self._buf = np.empty(mujoco.mj_stateSize(self.model, _STATE))
         self._eq_snapshot = self.data.eq_active.copy()
+        self._eq_scratch = self.data.eq_active.copy()  # (``stepping``'s, for a redo)
+        self._stepper = stepping.Stepper(self)
         for t in self.tethers.values():
             t.use_snapshot(self._eq_snapshot)
         # views of mjData's arrays that the per-step code reads (they never move)
@@ -182,11 +188,15 @@ class Simulation:
     def _advance(self, nstep: int) -> None:
         """``nstep`` MuJoCo steps, switching slack tether elements after each and tracking
         every element's peak push (``BoundTether.take_peak_compression``) and its snap loads
-        (``BoundTether.snaps``, where started)."""
+        (``BoundTether.snaps``, where started): in compiled blocks where ``cable.stepping``
+        can (``compiled_steps``), else in the Python loop here, which gives the same bits."""
         self.revision += 1
         if not self.tethers:
             self._t_step = self.data.time + self.model.opt.timestep
             mujoco.mj_step(self.model, self.data, nstep)
+            return
+        if stepping.usable(self):
+            self._advance_compiled(nstep)
             return
         tethers = self._tether_list
         m, d, buf, spec = self.model, self.data, self._buf, _STATE
@@ -217,6 +227,23 @@ class Simulation:
                 t.track_peak_compression()
                 if t.readouts.snaps is not None:
                     t.track_snaps()
+
+    def _advance_compiled(self, nstep: int) -> None:
+        """``_advance``'s loop in compiled blocks (``cable.stepping``), back in Python only where
+        a snap ended (to record it) or something failed."""
+        while nstep > 0:
+            done, self._t_step, status, which, code = self._stepper.advance(nstep, _STATE, SLACK_REDOS)
+            nstep -= done
+            if status == stepping.DONE:
+                continue
+            t = self._tether_list[which]
+            if status == stepping.ROWS_MISSING:
+                raise RuntimeError("tether tension is available after mj_forward/mj_step")
+            if status == stepping.BAD_FORCE:
+                t.snaps.took(code)
+            for t in self._tether_list:  # (a snap ended on this tether, and maybe others, at this step)
+                if t.snaps is not None and t.snaps._closing.any():
+                    t.snaps.took(1)
 
     def save_state(self):
         """Everything needed to continue exactly from here (MuJoCo's integration state and the

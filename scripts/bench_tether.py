@@ -42,7 +42,9 @@ def make(N: int, dt: float):
 def run(N: int, dt: float, duration: float = 60.0, bare: bool = False):
     """Cost per step (us) of ``duration`` s from rest; with ``bare``, also that of MuJoCo's own
     step of the same model in the same state, without the hydrodynamics (the callback
-    suspended) and without the tension-only switching: what MuJoCo alone costs."""
+    suspended) and without the tension-only switching: what MuJoCo alone costs; and that of the
+    same steps taken by the Python loop (``Simulation.compiled_steps = False``) over the compiled
+    one (``cable.stepping``)."""
     sim, tether, water = make(N, dt)
     with sim:
         sim.step(10)  # warm up
@@ -51,16 +53,22 @@ def run(N: int, dt: float, duration: float = 60.0, bare: bool = False):
         sim.step(n)
         wall = time.perf_counter() - t0
         top = float(np.linalg.norm(sim.tether().end_force(sim.data, "start")))
-        us_bare = ratio = None
+        us_bare = ratio = python_loop = None
         if bare:  # alternate 200 whole steps and 200 bare ones from the same state, 5 times each
             m, d = sim.model, sim.data
             state = sim.save_state()
-            whole, own = [], []
+            whole, own, loop = [], [], []
             for _ in range(5):
                 sim.restore_state(state)
                 t0 = time.perf_counter()
                 sim.step(200)
                 whole.append(time.perf_counter() - t0)
+                sim.restore_state(state)
+                sim.compiled_steps = False
+                t0 = time.perf_counter()
+                sim.step(200)
+                loop.append(time.perf_counter() - t0)
+                sim.compiled_steps = True
                 sim.restore_state(state)
                 with mt.dispatch.suspended():
                     t0 = time.perf_counter()
@@ -69,8 +77,9 @@ def run(N: int, dt: float, duration: float = 60.0, bare: bool = False):
                     own.append(time.perf_counter() - t0)
             us_bare = float(np.median(own)) / 200 * 1e6
             ratio = float(np.median(whole)) / float(np.median(own))
+            python_loop = float(np.median(loop)) / float(np.median(whole))
     us = wall / n * 1e6
-    return dict(us=us, rtf=dt / (us * 1e-6), top=top, us_bare=us_bare, over_bare=ratio,
+    return dict(us=us, rtf=dt / (us * 1e-6), top=top, us_bare=us_bare, over_bare=ratio, python_loop=python_loop,
                 lam_dt=mt.stability.drag_rate(tether, water) * dt)
 
 
@@ -103,7 +112,7 @@ def main(argv=None):
     ap.add_argument("--timestep", type=float, default=0.005, help="time step (s)")
     args = ap.parse_args(argv)
     dt = args.timestep
-    res = {N: run(N, dt, bare=N == 200) for N in SEGMENTS}
+    res = {N: run(N, dt, bare=N in (25, 200)) for N in SEGMENTS}
     out = {"N": SEGMENTS, "us_per_step": [round(res[N]["us"], 1) for N in SEGMENTS],
            "timestep": [dt] * len(SEGMENTS), "realtime_factor": [round(res[N]["rtf"], 2) for N in SEGMENTS],
            "ship_tension_N": [round(res[N]["top"], 2) for N in SEGMENTS],
@@ -113,6 +122,9 @@ def main(argv=None):
            # the whole step over it (medians of 5 alternating rounds from the same state)
            "bare_mj_step_us_N200": round(res[200]["us_bare"], 1),
            "cost_over_bare_N200": round(res[200]["over_bare"], 2),
+           # the same steps in the Python step loop over the compiled one (``cable.stepping``)
+           "python_loop_over_compiled_N25": round(res[25]["python_loop"], 2),
+           "python_loop_over_compiled_N200": round(res[200]["python_loop"], 2),
            "kernels": mt.compiled.backend(), "callback": "native" if mt.native.available() else "python"}
     # cable parked on a drum must cost little: 10 % and 100 % of a 200-element tether deployed
     out["drum_us_per_step_10pct"] = round(run_deployed(0.1, dt), 1)

@@ -117,9 +117,17 @@ class SnapDetector:
         DNV check weighs the least tension against it)."""
         self._closing = np.zeros(n, dtype=bool)  # (the compiled twin's: snaps that ended at its update)
         self._closed = []
-        self._t = -math.inf
+        self._clock = np.full(1, -math.inf)  # s, the time of the last update (an array: ``physics.stepping`` writes it)
         self.compiled = compiled and backend() == "numba"
         """Whether ``update_from_constraints`` runs the compiled twin (``kernels.snap_update``)."""
+
+    @property
+    def _t(self) -> float:
+        return float(self._clock[0])
+
+    @_t.setter
+    def _t(self, value: float) -> None:
+        self._clock[0] = value
 
     def _per_element(self, name: str, value) -> np.ndarray:
         v = np.asarray(value, dtype=float)
@@ -188,6 +196,11 @@ class SnapDetector:
                                      self.window_s, self.slack_now, self._snapping, self._t_slack, self._t_taut,
                                      self._slack_for, self._peak, self.min_tension_N, self.max_tension_N,
                                      self.interval_max_N, self._closing, self._top_min)
+        self.took(closed)
+
+    def took(self, closed: int) -> None:
+        """After the compiled twin (``kernels.snap_update``) returned ``closed``: record the snaps
+        that ended (``_closing``), or raise for a non-finite force (``closed`` < 0)."""
         if closed < 0:
             raise ValueError(f"tension_N must be finite and >= 0 N, got a non-finite force at element {-closed - 1}")
         if closed:
@@ -208,8 +221,16 @@ class SnapDetector:
 
     def copy(self) -> "SnapDetector":
         """An independent copy: its state, its events so far (``Simulation.save_state`` keeps one,
-        so that a restored simulation goes on from the snaps it had found)."""
-        return copy.deepcopy(self)
+        so that a restored simulation goes on from the snaps it had found). Its arrays are copied;
+        the events found so far are shared (each is made once and never changed), so that a copy
+        costs the same after thousands of snaps as after none (``save_state`` takes one per block
+        of steps)."""
+        out = copy.copy(self)
+        for name, value in vars(self).items():
+            if isinstance(value, np.ndarray):
+                setattr(out, name, value.copy())
+        out._closed = list(self._closed)
+        return out
 
     def take_interval_max(self) -> np.ndarray:
         """Each element's largest tension (N) over every update since the last call; resets it."""

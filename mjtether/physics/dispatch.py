@@ -151,6 +151,13 @@ def raise_pending(data: mujoco.MjData) -> None:
         raise exc
 
 
+def native_only() -> bool:
+    """Whether the installed passive-force callback is ``native``'s compiled one (every live
+    simulation's loads are native): no Python runs inside ``mj_step``, so compiled code may call
+    it (``stepping``)."""
+    return bool(_native) and all(a in _native for a in _providers)
+
+
 def active_count() -> int:
     """Number of ``MjData`` with registered providers (for tests and diagnostics)."""
     return len(_providers)
