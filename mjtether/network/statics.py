@@ -28,7 +28,9 @@ method with a fresh Jacobian each step (``_newton``: a stiff line near the verti
 is 1e7 times stiffer than its swing); from where every line with a moving end is just taut
 (``_Balance.taut_start``, a small least squares: a slack weightless rope has no stiffness to
 search on); and last from there with the lines' EA cut and raised back step by step
-(``_continuation``: stiff light ropes on a body). Measured on a clump or buoy on one line
+(``_continuation``: stiff light ropes on a body), with a trust-region least squares at each EA
+where both fail (``_least_squares``: a body on a bridle, whose roll about the bridle's axis no
+load sees, so that the Jacobian is singular along it). Measured on a clump or buoy on one line
 (5 line types, 3 masses, 5 starts each, above and below: 150 cases): 56 missed before, 11
 now (a 1e11 N rod, and buoys that cannot lift their line); a network that cannot balance
 (MoorDyn's tripod.txt, a float line through the surface) now takes 8 s to say so, 1.6 s before.
@@ -303,6 +305,23 @@ def _attempt(bal: _Balance, x):
     return sol.x, _worst(sol.fun, sol.x)
 
 
+def _least_squares(bal: _Balance, x):
+    """A trust-region least squares (scipy's ``least_squares``, "trf") from ``x``: its answer and
+    the largest residual left. The last resort at each EA of ``_continuation``: a motion the loads do not see
+    (a body on a bridle rolling about the line through its rope points, its weight and its
+    buoyancy) makes the Jacobian singular; hybr's updated Jacobian drifts along it (to a roll of
+    -48 rad, measured) and Newton's steps from the taut start slacken the ropes, where the trust
+    region's steps stay short."""
+    sol = least_squares(bal.residual, x, jac=lambda y: _jacobian(bal, y), method="trf", xtol=1e-15, ftol=1e-15,
+                        gtol=1e-15, max_nfev=LEAST_SQUARES_EVALS)
+    return sol.x, _worst(sol.fun, sol.x)
+
+
+LEAST_SQUARES_EVALS = 200
+"""The most residual evaluations ``_least_squares`` takes (each step takes a Jacobian too: one
+residual per unknown)."""
+
+
 def _jacobian(bal: _Balance, x, r=None) -> np.ndarray:
     """The residual's forward-difference Jacobian at ``x``, each unknown stepped by ``STEP``."""
     r = bal.residual(x) if r is None else r
@@ -366,6 +385,8 @@ def _continuation(bal: _Balance, x):
         x1, worst = _attempt(bal, x)
         if worst > TOLERANCE:
             x1, worst = min((x1, worst), _newton(bal, x1), key=lambda t: t[1])
+        if worst > TOLERANCE:  # (a neutral motion: the least squares' trust region, from this EA's start)
+            x1, worst = min((x1, worst), _least_squares(bal, x), key=lambda t: t[1])
         if worst > TOLERANCE and bal.ea_cap < math.inf and not math.isfinite(worst):
             break
         x = x1

@@ -55,11 +55,6 @@ def test_a_buoy_held_down_by_one_line_carries_its_net_buoyancy():
     assert np.linalg.norm(poses["buoy"].rotation[:, 2] - [0.0, 0.0, 1.0]) < 1e-6
 
 
-@pytest.mark.xfail(strict=False, reason=(
-    "an open bug of the body statics, found 2026-12-02: on an Intel Xeon (Rocket Lake) the solver "
-    "fails here (2.3e3 N left), where it passes on an AMD EPYC: the roll about the bridle's axis is "
-    "neutral, and root's hybrid method drifts along it (to -48 rad) from the taut start even at the "
-    "softest EA of the continuation; the assertion is kept as it was, to show when it is fixed"))
 def test_a_body_with_an_offset_cg_on_a_bridle_tilts_its_cg_under_the_hang_point():
     """A 400 kg, 0.1 m^3 body hung from one fixed point by two light ropes of 5 m to body points
     (+-2, 0, 0) m; its centre of gravity 0.3 m along x, its buoyancy at its origin; written
