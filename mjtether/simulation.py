@@ -109,6 +109,7 @@ class Simulation:
         self._buf = np.empty(mujoco.mj_stateSize(self.model, _STATE))
         self._eq_snapshot = self.data.eq_active.copy()
         self._eq_scratch = self.data.eq_active.copy()  # (``stepping``'s, for a redo)
+        self._redone = np.zeros(1, dtype=np.int64)  # (see redone_steps)
         self._stepper = stepping.Stepper(self)
         for t in self.tethers.values():
             t.use_snapshot(self._eq_snapshot)
@@ -151,6 +152,13 @@ class Simulation:
     @property
     def timestep(self) -> float:
         return float(self.model.opt.timestep)
+
+    @property
+    def redone_steps(self) -> int:
+        """MuJoCo steps taken again so far, with tether elements switched between taut and slack
+        (``cable.slack``: where a push or an overshoot was worth it); each step counts once, the
+        redone ones again (MuJoCo's steps = steps + this)."""
+        return int(self._redone[0])
 
     def tether(self, name: str = "tether") -> BoundTether:
         return self.tethers[name]
@@ -213,6 +221,7 @@ class Simulation:
             redo = 0
             while changed:  # redo the step with the elements taut now (see update_slack)
                 redo += 1
+                self._redone[0] += 1
                 active = d.eq_active.copy()
                 mujoco.mj_setState(m, d, buf, spec)
                 d.eq_active[:] = active

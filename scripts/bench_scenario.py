@@ -9,6 +9,9 @@ run does: building the model, the quasi-static start, the pre-roll, stepping and
 200-segment tether, the BlueROV2 Heavy on a 200-segment umbilical, and the REMUS 100 alone; and
 times the REMUS 100's passive wrench with the compiled and the NumPy kernels.
 
+It also times the run's step against MuJoCo's own step of the same states (``_mujoco_share``;
+the goal: MuJoCo's step at least 0.9 of the run's).
+
 ``--check`` runs the scenario again with the time step divided by ``--refine`` (default 2) and
 reports how far the answers a user reads move: the mean ship-end and
 tow-point tensions after the first 10 s, the tow tension's standard deviation (the gait's
@@ -97,6 +100,47 @@ def _vehicle_wrench_us(kernels: str, calls: int = 5000) -> float:
     return round(float(np.median(rounds)), 1)
 
 
+def _mujoco_share(path: str, steps: int = 3000, warm: int = 400) -> dict:
+    """The run's step against MuJoCo's own step of its model: ``steps`` steps of the scenario's
+    ``ScenarioRun`` (controllers, the tether's switching and redo, the checks), each timed alone,
+    after ``warm`` steps; then MuJoCo's ``mj_step`` (with the loads' callback) from each of the
+    same states, timed alone. Returns the two means (us), their ratio (MuJoCo's over the run's;
+    1: the run costs nothing beyond one MuJoCo step), MuJoCo's steps per step (the tension-only
+    switching redoes some: ``Simulation.redone_steps``) and the share of the run's time they
+    take (1: nothing but MuJoCo's steps)."""
+    import time
+
+    import mujoco
+
+    from mjtether.scenario.runner import ScenarioRun
+
+    r = ScenarioRun(load_scenario(path))
+    try:
+        for _ in range(warm):
+            r.step()
+        m, d = r.sim.model, r.sim.data
+        spec = mujoco.mjtState.mjSTATE_INTEGRATION
+        states = np.empty((steps, mujoco.mj_stateSize(m, spec)))
+        run_s, redone = 0.0, r.sim.redone_steps
+        for k in range(steps):
+            mujoco.mj_getState(m, d, states[k], spec)
+            t0 = time.perf_counter()
+            r.step()
+            run_s += time.perf_counter() - t0
+        per_step = 1.0 + (r.sim.redone_steps - redone) / steps  # MuJoCo's steps per step, redone ones too
+        own_s = 0.0
+        for k in range(steps):
+            mujoco.mj_setState(m, d, states[k], spec)
+            t0 = time.perf_counter()
+            mujoco.mj_step(m, d)
+            own_s += time.perf_counter() - t0
+    finally:
+        r.close()
+    return {"run_step_us": round(run_s / steps * 1e6, 1), "mujoco_step_us": round(own_s / steps * 1e6, 1),
+            "mujoco_step_share": round(own_s / run_s, 3), "mujoco_steps_per_step": round(per_step, 3),
+            "mujoco_steps_share": round(own_s * per_step / run_s, 3)}
+
+
 def _answers(rows: np.ndarray) -> dict:
     late = rows[:, 0] >= min(10.0, rows[-1, 0] / 2)
     return {"ship_tension_mean": float(rows[late, COL["ship_tension"]].mean()),
@@ -133,6 +177,7 @@ def main(argv=None):
     out = {"scenario": args.scenario, "segments": sc.tether.segments, "timestep": dt,
            "simulated_s": info["simulated_s"], "wall_s": round(info["wall_time_s"], 2),
            "realtime_factor": round(info["realtime_factor"], 2)}
+    out.update(_mujoco_share(args.scenario))
     if args.check:
         _, fine, _ = _run(args.scenario, args.duration, dt / args.refine, segments=args.segments)
         a, b = _answers(rows), _answers(fine)
@@ -148,6 +193,9 @@ def main(argv=None):
         return
     print(f"{out['scenario']}: N = {out['segments']}, dt = {dt:g} s, {out['simulated_s']:.0f} s in "
           f"{out['wall_s']} s, {out['realtime_factor']}x real time")
+    print(f"a step: {out['run_step_us']} us, of which MuJoCo's own step of the same states "
+          f"{out['mujoco_step_us']} us ({100 * out['mujoco_step_share']:.0f} %); {out['mujoco_steps_per_step']} "
+          f"MuJoCo steps per step (the slack switching's redos), {100 * out['mujoco_steps_share']:.0f} % of the time")
     if args.check:
         c = out["check"]
         print(f"against dt = {c['fine_timestep']:g} s: mean ship tension {100 * c['ship_tension_mean_rel']:+.3f} %, "

@@ -188,7 +188,7 @@ class Stepper:
         done, t_step, status, which, closed = _advance(
             m._address, d._address, nstep, sim._buf, int(state_spec), d.eq_active, sim._eq_snapshot,
             sim._eq_scratch, d.ten_length, self._table(), efc, nefc, int(words[native.TIME]),
-            int(words[native.TIMESTEP]), SLACK_TENSION, redos)
+            int(words[native.TIMESTEP]), SLACK_TENSION, redos, sim._redone)
         return int(done), float(t_step), int(status), int(which), int(closed)
 
 
@@ -236,9 +236,10 @@ def _flags(table, slot):
 
 @compiled.jit
 def _advance(mp, dp, nstep, buf, spec, eq_active, snap, scratch, ten_length, tables, efc, nefc_at, time_at,
-             timestep_at, slack_tension, redos):
+             timestep_at, slack_tension, redos, redone):
     """The loop of ``advance`` (``Simulation._advance``'s, step for step); ``time_at``,
-    ``timestep_at``: the words of mjData's ``time`` and mjModel's ``opt.timestep``."""
+    ``timestep_at``: the words of mjData's ``time`` and mjModel's ``opt.timestep``; ``redone``
+    (1,) counts the steps redone."""
     m, d = _void(mp), _void(dp)
     state = _void(buf.ctypes.data)
     clock = numba.carray(_f64(dp + 8 * time_at), (1,))
@@ -257,6 +258,7 @@ def _advance(mp, dp, nstep, buf, spec, eq_active, snap, scratch, ten_length, tab
         r = 0
         while redo:  # redo the step with the elements taut now (``Simulation._advance``)
             r += 1
+            redone[0] += 1
             scratch[:] = eq_active
             _mj_set_state(m, d, state, spec)
             eq_active[:] = scratch
