@@ -385,8 +385,10 @@ def _continuation(bal: _Balance, x):
         x1, worst = _attempt(bal, x)
         if worst > TOLERANCE:
             x1, worst = min((x1, worst), _newton(bal, x1), key=lambda t: t[1])
-        if worst > TOLERANCE:  # (a neutral motion: the least squares' trust region, from this EA's start)
-            x1, worst = min((x1, worst), _least_squares(bal, x), key=lambda t: t[1])
+        if worst > TOLERANCE:  # (a neutral motion: the least squares' trust region, from this EA's start,
+            x2, left = _least_squares(bal, x)  # taken only where it balances: elsewhere its answer, which
+            if left <= TOLERANCE:  # may rest a point on the seabed, would be no better a start)
+                x1, worst = x2, left
         if worst > TOLERANCE and bal.ea_cap < math.inf and not math.isfinite(worst):
             break
         x = x1

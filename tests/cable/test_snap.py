@@ -170,3 +170,22 @@ def test_the_compiled_twin_agrees_with_the_numpy_reference():
     assert a.events == b.events and len(a.events) > 50
     for key in ("slack_now", "min_tension_N", "max_tension_N", "interval_max_N", "_peak", "_t_taut"):
         np.testing.assert_array_equal(getattr(a, key), getattr(b, key), err_msg=key)
+
+
+def test_a_copy_goes_on_alone_from_where_it_was_taken():
+    """``copy`` (what ``Simulation.save_state`` keeps): the original fed 300 more samples (the
+    second and third spells) leaves the copy as it was; the copy fed the same samples then gives
+    the same three events as a detector fed the whole history at once."""
+    T = history(600, SPELLS)
+    det = SnapDetector(N, slack_threshold(np.full(N, STATIC)))
+    for k in range(300):
+        det.update(k * DT, T[k])
+    saved = det.copy()
+    before = (len(saved.events), saved.min_tension_N.copy(), saved.time)
+    for k in range(300, 600):
+        det.update(k * DT, T[k])
+    assert (len(saved.events), saved.time) == (before[0], before[2])
+    np.testing.assert_array_equal(saved.min_tension_N, before[1])
+    for k in range(300, 600):
+        saved.update(k * DT, T[k])
+    assert saved.events == det.events == run(T).events and len(det.events) == 3
