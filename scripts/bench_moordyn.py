@@ -14,6 +14,16 @@ Reported per case: seconds of wall time per simulated second for each, the stepp
 each, and their ratio (mjtether over MoorDyn; below 1: mjtether faster). The goal is a ratio
 below 1 on every case.
 
+**At equal accuracy** (``equal_accuracy``, the ``*_eq_*`` keys): each program is run again at its
+own step times ``FACTORS`` (MoorDyn-C's from its file's dtM or CFL, set by ``SetDt`` after its
+initial-condition solve; mjtether's from its own stable step, by ``simulation.timestep``); its
+fairlead tension at the end (line 1's, end B) at the finest step is its converged value, and the
+largest step whose tension is within ``EQUAL_ACCURACY`` of it (a run that fails or diverges does
+not count) is the one it is timed at. Reported: the step found and the wall time per simulated
+second of each, and their ratio. The runs start from each program's own steady state and hold
+the fairlead still, so the steps found are those at which each settles to its own equilibrium;
+a moving fairlead (a heaving ship) would ask more of each.
+
     python scripts/bench_moordyn.py [--json]
 """
 
@@ -21,6 +31,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 import os
 import re
 import shutil
@@ -80,6 +91,95 @@ def moordyn_c(path: Path) -> tuple[float, float]:
     return (t2 - t0) / DURATION, (t2 - t1) / DURATION
 
 
+def moordyn_c_at(path: Path, factor: float) -> tuple[float, float, float]:
+    """MoorDyn-C on ``path`` at ``factor`` times its own step: (the step, s; line 1's fairlead
+    tension at the end, N, NaN if the run failed; wall s of the whole run per simulated second)."""
+    import moordyn
+    old = os.getcwd()
+    os.chdir(path.parent)
+    try:
+        t0 = time.perf_counter()
+        s = moordyn.Create(str(path))
+        x = []
+        for i in range(moordyn.GetNumberPoints(s)):
+            p = moordyn.GetPoint(s, i + 1)
+            if moordyn.GetPointType(p) == moordyn.POINT_TYPE_COUPLED:
+                x += list(moordyn.GetPointPos(p))
+        x = np.array(x, float)
+        v = np.zeros_like(x)
+        moordyn.Init(s, x, v)
+        import cmoordyn  # (moordyn.GetDt of MoorDyn 2.7 drops the value it reads: its module's own call)
+        dt = cmoordyn.get_dt(s) * factor
+        moordyn.SetDt(s, dt)
+        t, tension = 0.0, math.nan
+        try:
+            while t < DURATION - 1e-9:
+                moordyn.Step(s, x, v, t, 0.1)
+                t += 0.1
+            tension = float(moordyn.GetLineFairTen(moordyn.GetLine(s, 1)))
+        except (RuntimeError, ValueError):  # (MoorDyn-C's NaN check)
+            pass
+        wall = time.perf_counter() - t0
+        moordyn.Close(s)
+    finally:
+        os.chdir(old)
+    return dt, tension, wall / DURATION
+
+
+def mjtether_at(path: Path, factor: float) -> tuple[float, float, float]:
+    """mjtether on ``path`` at ``factor`` times its own stable step, as ``mjtether``: (the step,
+    s; line 1's fairlead tension at the end, N, NaN if the run failed; wall s of the whole run per
+    simulated second)."""
+    from mjtether.io import moordyn as md
+    from mjtether.network import Network
+    from mjtether.network import run as nrun
+    from mjtether.scenario.runner import run
+    from mjtether.simulation import SimulationDiverged
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        base = md.read(path, overrides=[f"simulation.duration={DURATION}"])
+        if isinstance(base, Network):
+            dt = nrun.build(base)
+            dt.sim.close()
+            dt = dt.timestep * factor
+        else:
+            dt = base.simulation.timestep * factor
+        t0 = time.perf_counter()
+        try:
+            sc = md.read(path, overrides=[f"simulation.duration={DURATION}", f"simulation.timestep={dt!r}"])
+            if isinstance(sc, Network):
+                r = nrun.build(sc)
+                if sc.settle > 0:
+                    nrun.settle(r, sc.settle)
+                r.sim.step(round(DURATION / r.timestep))
+                tension = float(np.linalg.norm(r.line_forces(sc.lines[0].name)[1]))
+                r.sim.close()
+            else:
+                rows, _, _ = run(sc, keep_nodes=False)
+                tension = float(rows[-1, 1])  # (ship_tension, RECORD_FIELDS' first after time)
+        except (SimulationDiverged, ValueError, RuntimeError):
+            tension = math.nan
+    return dt, tension, (time.perf_counter() - t0) / DURATION
+
+
+FACTORS = (4.0, 2.0, 1.0, 0.5, 0.25, 0.125)
+"""Each program's steps tried, as multiples of its own (the last: its converged answer)."""
+EQUAL_ACCURACY = 1e-3
+"""The fairlead tension's distance from the converged value at which a step counts (0.1 %)."""
+
+
+def equal_accuracy(path: Path, program) -> dict:
+    """``program`` (``moordyn_c_at`` or ``mjtether_at``) on ``path`` at each of ``FACTORS``: the
+    largest step within ``EQUAL_ACCURACY`` of the finest's tension, and its cost."""
+    runs = [program(path, f) for f in FACTORS]
+    ref = runs[-1][1]
+    for dt, tension, cost in runs:
+        if math.isfinite(tension) and abs(tension / ref - 1.0) <= EQUAL_ACCURACY:
+            return {"step_s": dt, "tension_N": round(tension, 2), "s_per_s": cost, "converged_N": round(ref, 2)}
+    raise RuntimeError(f"{path.name}: no step of {program.__name__} converged")
+
+
 def mjtether(path: Path) -> tuple[float, float]:
     """(wall s of the whole run, wall s of its steps) per simulated second."""
     from mjtether.io import moordyn as md
@@ -115,7 +215,13 @@ def measure() -> dict:
             path = _case_file(folder, name, n)
             md_total, md_steps = moordyn_c(path)
             mj_total, mj_steps = mjtether(path)
+            md_eq, mj_eq = equal_accuracy(path, moordyn_c_at), equal_accuracy(path, mjtether_at)
             shutil.rmtree(folder)
+            for who, eq in (("moordyn", md_eq), ("mjtether", mj_eq)):
+                out[f"{key}_eq_{who}_step_s"] = float(f"{eq['step_s']:.4g}")
+                out[f"{key}_eq_{who}_s_per_s"] = round(eq["s_per_s"], 4)
+                out[f"{key}_eq_{who}_tension_N"] = eq["tension_N"]
+            out[f"{key}_eq_ratio"] = round(mj_eq["s_per_s"] / md_eq["s_per_s"], 3)
             out[f"{key}_moordyn_s_per_s"] = round(md_total, 4)
             out[f"{key}_mjtether_s_per_s"] = round(mj_total, 4)
             out[f"{key}_moordyn_steps_s_per_s"] = round(md_steps, 4)
@@ -135,7 +241,10 @@ def main(argv=None):
     for key in CASES:
         print(f"{key}: mjtether {out[f'{key}_mjtether_s_per_s']:.3f} s/s (steps {out[f'{key}_mjtether_steps_s_per_s']:.3f}), "
               f"MoorDyn-C {out[f'{key}_moordyn_s_per_s']:.3f} s/s (steps {out[f'{key}_moordyn_steps_s_per_s']:.3f}); "
-              f"ratio {out[f'{key}_ratio']:.2f}")
+              f"ratio {out[f'{key}_ratio']:.2f}; at equal accuracy (0.1 %): mjtether at "
+              f"{out[f'{key}_eq_mjtether_step_s']:g} s, {out[f'{key}_eq_mjtether_s_per_s']:.4f} s/s, MoorDyn-C at "
+              f"{out[f'{key}_eq_moordyn_step_s']:g} s, {out[f'{key}_eq_moordyn_s_per_s']:.4f} s/s: ratio "
+              f"{out[f'{key}_eq_ratio']:.2f}")
 
 
 if __name__ == "__main__":
