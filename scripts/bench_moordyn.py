@@ -1,8 +1,10 @@
 """Benchmark: mjtether against MoorDyn-C on MoorDyn's own files, wall time per simulated second.
 
 Cases (``tests/data/moordyn``, MoorDyn v2.7.1): MoorDyn's ``WD0200_Chain.txt`` (one 700 m chain
-from a vessel to an anchor in 200 m of water) with its NumSegs set to 20, 40 and 100, and
-``lines.txt`` (three lines of 20 segments, the OC3-Hywind spread mooring). Each is run for
+from a vessel to an anchor in 200 m of water) with its NumSegs set to 20, 40 and 100,
+``lines.txt`` (three lines of 20 segments, the OC3-Hywind spread mooring), ``WD0600_Chain.txt``
+(one 1700 m chain in 600 m of water) at 200 segments, and ``RodHanging.txt`` (a free rod, a
+rigid body, hung on two 450 m ropes of 45 segments, released from the file's positions). Each is run for
 ``DURATION`` s by both, in one process, one after the other:
 
 * MoorDyn-C (the ``moordyn`` package): ``Create``, ``Init`` (its initial-condition solver) and
@@ -45,7 +47,8 @@ import numpy as np
 DATA = Path(__file__).resolve().parents[1] / "tests" / "data" / "moordyn" / "tests" / "Mooring"
 DURATION = 20.0
 CASES = {"single_N20": ("WD0200_Chain.txt", 20), "single_N40": ("WD0200_Chain.txt", 40),
-         "single_N100": ("WD0200_Chain.txt", 100), "network_3_lines": ("lines.txt", None)}
+         "single_N100": ("WD0200_Chain.txt", 100), "network_3_lines": ("lines.txt", None),
+         "single_N200_1700m": ("WD0600_Chain.txt", 200), "body_rod_hanging": ("RodHanging.txt", None)}
 
 
 def _case_file(folder: Path, name: str, segments: int | None) -> Path:
