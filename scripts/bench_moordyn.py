@@ -4,8 +4,8 @@ Cases (``tests/data/moordyn``, MoorDyn v2.7.1): MoorDyn's ``WD0200_Chain.txt`` (
 from a vessel to an anchor in 200 m of water) with its NumSegs set to 20, 40 and 100,
 ``lines.txt`` (three lines of 20 segments, the OC3-Hywind spread mooring), ``WD0600_Chain.txt``
 (one 1700 m chain in 600 m of water) at 200 segments, and ``RodHanging.txt`` (a free rod, a
-rigid body, hung on two 450 m ropes of 45 segments, released from the file's positions). Each is run for
-``DURATION`` s by both, in one process, one after the other:
+rigid body, hung on two 450 m ropes of 45 segments, released from the file's positions). Each
+is run for ``DURATION`` s by both, in one process, one after the other:
 
 * MoorDyn-C (the ``moordyn`` package): ``Create``, ``Init`` (its initial-condition solver) and
   its steps at the file's dtM (or the step its CFL gives);
@@ -142,10 +142,10 @@ def mjtether_at(path: Path, factor: float) -> tuple[float, float, float]:
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         base = md.read(path, overrides=[f"simulation.duration={DURATION}"])
-        if isinstance(base, Network):
-            dt = nrun.build(base)
-            dt.sim.close()
-            dt = dt.timestep * factor
+        if isinstance(base, Network):  # (its own step: built once to find it, not timed)
+            probe = nrun.build(base)
+            probe.sim.close()
+            dt = probe.timestep * factor
         else:
             dt = base.simulation.timestep * factor
         t0 = time.perf_counter()

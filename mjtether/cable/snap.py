@@ -117,7 +117,7 @@ class SnapDetector:
         DNV check weighs the least tension against it)."""
         self._closing = np.zeros(n, dtype=bool)  # (the compiled twin's: snaps that ended at its update)
         self._closed = []
-        self._clock = np.full(1, -math.inf)  # s, the time of the last update (an array: ``physics.stepping`` writes it)
+        self._clock = np.full(1, -math.inf)  # s, the time of the last update (an array: ``cable.stepping`` writes it)
         self.compiled = compiled and backend() == "numba"
         """Whether ``update_from_constraints`` runs the compiled twin (``kernels.snap_update``)."""
 

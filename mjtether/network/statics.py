@@ -307,11 +307,11 @@ def _attempt(bal: _Balance, x):
 
 def _least_squares(bal: _Balance, x):
     """A trust-region least squares (scipy's ``least_squares``, "trf") from ``x``: its answer and
-    the largest residual left. The last resort at each EA of ``_continuation``: a motion the loads do not see
-    (a body on a bridle rolling about the line through its rope points, its weight and its
-    buoyancy) makes the Jacobian singular; hybr's updated Jacobian drifts along it (to a roll of
-    -48 rad, measured) and Newton's steps from the taut start slacken the ropes, where the trust
-    region's steps stay short."""
+    the largest residual left. The last resort at each EA of ``_continuation``, taken where it
+    balances: a motion the loads do not see (a body on a bridle rolling about the line through
+    its rope points, its weight and its buoyancy) makes the Jacobian singular; hybr's updated
+    Jacobian drifts along it (to a roll of -48 rad, measured) and Newton's steps from the taut
+    start slacken the ropes, where the trust region's steps stay short."""
     sol = least_squares(bal.residual, x, jac=lambda y: _jacobian(bal, y), method="trf", xtol=1e-15, ftol=1e-15,
                         gtol=1e-15, max_nfev=LEAST_SQUARES_EVALS)
     return sol.x, _worst(sol.fun, sol.x)
