@@ -120,6 +120,12 @@ class Ship:
             self.position = p
         return p
 
+    @property
+    def idle(self) -> bool:
+        """Whether ``update`` writes the same pose at every step: holding station on a flat sea,
+        with no heave (``ScenarioRun.advance`` then steps in blocks)."""
+        return self.mode == "fixed" and self.motion is None and not self.heave_amplitude
+
     def update(self, run, t: float, dt: float) -> None:
         """Move the ship's mocap body, following the robot's tow point where it follows (with
         RAOs, turned by the ship's roll, pitch and yaw about the fairlead: the fairlead's motion
@@ -142,6 +148,12 @@ class WinchDrive:
 
     def __init__(self, winch, compensator=None, ship=None):
         self.winch, self.compensator, self.ship = winch, compensator, ship
+
+    @property
+    def idle(self) -> bool:
+        """Whether ``update`` leaves the length as it is at every step: a fixed winch at rest with
+        no heave compensator (``ScenarioRun.advance`` then steps in blocks)."""
+        return self.winch.mode == "fixed" and self.compensator is None and self.winch.current_rate == 0.0
 
     def update(self, run, t: float, dt: float) -> None:
         tension = run.ship_end_tension()

@@ -255,6 +255,24 @@ class ScenarioRun:
             raise RunFailed(f"ship-end tension {tension:.0f} N exceeded the "
                             f"tether's rated load {self.rated_load:g} N at t = {sim.time:.2f} s")
 
+    def advance(self, steps: int) -> None:
+        """``steps`` time steps (``step`` each), or, where every controller holds still at every
+        step (``idle``: a ship holding station on a flat sea, a fixed winch, nothing else) and no
+        rated load is checked, the controllers once and the physics in one call (compiled blocks,
+        ``cable.stepping``): the same bits, as their updates would write the same values."""
+        if self.blocks and self.rated_load == math.inf and all(getattr(c, "idle", False) for c in self.controllers):
+            sim = self.sim
+            t = sim.time
+            for c in self.controllers:
+                c.update(self, t, sim.timestep)
+            sim.step(steps)
+            return
+        for _ in range(steps):
+            self.step()
+
+    blocks = True
+    """Let ``advance`` step in blocks where it can (False: one ``step`` at a time always)."""
+
     def ship_end_tension(self) -> float:
         """The ship-end tension (N) now: read once per state of the simulation (``step``'s
         rated-load check reads it after the physics, the winch's law again before the next)."""
