@@ -98,6 +98,7 @@ def test_a_failing_run_prints_the_warning_and_the_error_on_lines_of_their_own(tm
         step(self)
 
     monkeypatch.setattr(runner.ScenarioRun, "step", poisoned)
+    monkeypatch.setattr(runner.ScenarioRun, "blocks", False)  # (every step through ``step``: its ship and winch hold still)
     assert cli.main(["run", str(_scenario(tmp_path)), "--out", str(tmp_path / "res")]) == 1
     err = capsys.readouterr().err
     assert "%|" in err  # (the progress bar was drawn)
