@@ -66,6 +66,22 @@ def _case_file(folder: Path, name: str, segments: int | None) -> Path:
     return path
 
 
+def _moordyn_start(path: Path):
+    """MoorDyn-C's system for ``path`` (in its folder), initialised with its coupled points where
+    the file puts them, at rest: (system, their positions, their velocities)."""
+    import moordyn
+    s = moordyn.Create(str(path))
+    x = []
+    for i in range(moordyn.GetNumberPoints(s)):
+        p = moordyn.GetPoint(s, i + 1)
+        if moordyn.GetPointType(p) == moordyn.POINT_TYPE_COUPLED:
+            x += list(moordyn.GetPointPos(p))
+    x = np.array(x, float)
+    v = np.zeros_like(x)
+    moordyn.Init(s, x, v)
+    return s, x, v
+
+
 def moordyn_c(path: Path) -> tuple[float, float]:
     """(wall s of the whole run, wall s of its steps) per simulated second."""
     import moordyn
@@ -73,15 +89,7 @@ def moordyn_c(path: Path) -> tuple[float, float]:
     os.chdir(path.parent)
     try:
         t0 = time.perf_counter()
-        s = moordyn.Create(str(path))
-        x = []
-        for i in range(moordyn.GetNumberPoints(s)):
-            p = moordyn.GetPoint(s, i + 1)
-            if moordyn.GetPointType(p) == moordyn.POINT_TYPE_COUPLED:
-                x += list(moordyn.GetPointPos(p))
-        x = np.array(x, float)
-        v = np.zeros_like(x)
-        moordyn.Init(s, x, v)
+        s, x, v = _moordyn_start(path)
         t1 = time.perf_counter()
         t, dt = 0.0, 0.1
         while t < DURATION - 1e-9:
@@ -102,15 +110,7 @@ def moordyn_c_at(path: Path, factor: float) -> tuple[float, float, float]:
     os.chdir(path.parent)
     try:
         t0 = time.perf_counter()
-        s = moordyn.Create(str(path))
-        x = []
-        for i in range(moordyn.GetNumberPoints(s)):
-            p = moordyn.GetPoint(s, i + 1)
-            if moordyn.GetPointType(p) == moordyn.POINT_TYPE_COUPLED:
-                x += list(moordyn.GetPointPos(p))
-        x = np.array(x, float)
-        v = np.zeros_like(x)
-        moordyn.Init(s, x, v)
+        s, x, v = _moordyn_start(path)
         import cmoordyn  # (moordyn.GetDt of MoorDyn 2.7 drops the value it reads: its module's own call)
         dt = cmoordyn.get_dt(s) * factor
         moordyn.SetDt(s, dt)
